@@ -1,0 +1,3 @@
+file(REMOVE_RECURSE
+  "libbullet_bridge.a"
+)

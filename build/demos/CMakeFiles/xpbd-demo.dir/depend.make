@@ -1,0 +1,2 @@
+# Empty dependencies file for xpbd-demo.
+# This may be replaced when dependencies are built.

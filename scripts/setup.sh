@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages the project needs (only those missing),
+# then configures and builds one variant.
+#
+#   scripts/setup.sh [double|float|asan]     (default: double)
+#
+# Build trees: build/double, build/float, build/asan. Idempotent; works as
+# root, or through sudo otherwise.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+variant="${1:-double}"
+packages=(build-essential cmake pkg-config git
+          libbullet-dev libeigen3-dev libfcl-dev libgtest-dev libbenchmark-dev
+          nlohmann-json3-dev libcli11-dev libtinyobjloader-dev gnuplot-nox)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "setup: installing ${missing[*]}"
+  sudo_cmd=()
+  if [ "$(id -u)" -ne 0 ]; then
+    command -v sudo >/dev/null || { echo "setup: not root and no sudo; install: ${missing[*]}" >&2; exit 1; }
+    sudo_cmd=(sudo)
+  fi
+  "${sudo_cmd[@]}" apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+case "$variant" in
+  double) flags=(-DCMAKE_BUILD_TYPE=Release -DXPBD_DOUBLE=ON) ;;
+  float)  flags=(-DCMAKE_BUILD_TYPE=Release -DXPBD_DOUBLE=OFF -DXPBD_BUILD_BENCHMARKS=OFF) ;;
+  asan)   flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DXPBD_DOUBLE=ON -DXPBD_SANITIZE=ON -DXPBD_BUILD_BENCHMARKS=OFF) ;;
+  *) echo "setup: unknown variant '$variant' (double|float|asan)" >&2; exit 2 ;;
+esac
+cmake -S . -B "build/$variant" "${flags[@]}" >/dev/null
+cmake --build "build/$variant" -j"$(nproc)"

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# README command (2): installs what is missing, builds, and runs every test.
+#   - double precision (default build): all labels
+#   - float build: unit and bridge labels (validation tolerances are set for double)
+#   - ASan + UBSan build: unit, validation and bridge
+# Exits non-zero on any build or test failure.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+jobs="$(nproc)"
+
+scripts/setup.sh double
+ctest --test-dir build/double --output-on-failure -j"$jobs"
+
+scripts/setup.sh float
+ctest --test-dir build/float --output-on-failure -j"$jobs" -L 'unit|bridge'
+
+scripts/setup.sh asan
+ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+  ctest --test-dir build/asan --output-on-failure -j"$jobs" -L 'unit|validation|bridge'

@@ -1,0 +1,42 @@
+#pragma once
+// Read-only measurements of a State: energies, momentum, strain, and force
+// estimates from the Lagrange multipliers.
+#include "xpbd/model.hpp"
+#include "xpbd/state.hpp"
+
+namespace xpbd {
+
+Real kinetic_energy(const Model& m, const State& s);                         // J, movable particles
+Real gravity_potential(const Model& m, const State& s, const Vec3& gravity);  // J, -sum m g.x
+Vec3 linear_momentum(const Model& m, const State& s);                        // kg*m/s, movable particles
+Real total_mass(const Model& m);                                             // kg, movable particles
+
+// Distance constraints: max and mean of |len/rest - 1| (dimensionless).
+struct Strain {
+  Real max = 0;
+  Real mean = 0;
+};
+Strain distance_strain(const Model& m, const State& s);
+
+// Generalized force of constraint k of type T in the last substep:
+// lambda/h^2 (N for length constraints). Sign: positive pushes C up, so a
+// stretched distance constraint (C > 0) has a negative value (tension).
+template <class T>
+Real constraint_force(const State& s, std::size_t k) {
+  const Real h = s.last_substep;
+  return h > Real(0) ? s.lambdas<T>()[k] / (h * h) : Real(0);
+}
+
+// Force vector (N) constraint k of type T applies to its i-th particle:
+// lambda * grad_i C / h^2, with the gradient at the current positions.
+// Zero where the gradient is undefined.
+template <class T>
+Vec3 constraint_force_on(const Model& m, const State& s, std::size_t k, int i) {
+  EvalContext ctx{s.x.data(), s.pin_target_now.data(), m.planes.data()};
+  Real C;
+  Vec3 g[T::kArity];
+  if (!T::eval(m.get<T>()[k], static_cast<Index>(k), ctx, C, g)) return Vec3::Zero();
+  return constraint_force<T>(s, k) * g[i];
+}
+
+}  // namespace xpbd

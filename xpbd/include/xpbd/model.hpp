@@ -1,0 +1,41 @@
+#pragma once
+// Model: what a scene *is*. Immutable after compile(), shareable between many
+// State instances (MuJoCo's mjModel / Jolt's shared settings).
+#include <vector>
+
+#include "xpbd/constraint_types.hpp"
+#include "xpbd/types.hpp"
+
+namespace xpbd {
+
+struct Model {
+  // Particles (parallel arrays, one entry per particle).
+  std::vector<Real> inv_mass;  // 1/kg; 0 = kinematic
+  std::vector<Real> radius;    // m
+  std::vector<Vec3> x0;        // m, initial positions (make_state)
+  std::vector<Vec3> v0;        // m/s, initial velocities (make_state)
+
+  std::vector<Plane> planes;   // static planes referenced by Wall elements
+  std::vector<Vec3> pin_target0;  // m, initial pin targets, one per Pin
+
+  ConstraintArrays constraints;   // one flat array per constraint type
+
+  // True if any element of that type has damping != 0 (selects the kernel
+  // variant that reads previous positions).
+  std::array<bool, kNumConstraintTypes> has_damping{};
+
+  Index num_particles() const { return static_cast<Index>(inv_mass.size()); }
+
+  template <class T>
+  const std::vector<T>& get() const {
+    return std::get<std::vector<T>>(constraints);
+  }
+  template <class T>
+  std::vector<T>& get() {
+    return std::get<std::vector<T>>(constraints);
+  }
+};
+
+struct SceneDesc;
+
+}  // namespace xpbd

@@ -1,0 +1,133 @@
+#include "xpbd/step.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "xpbd/error.hpp"
+#include "xpbd/solve.hpp"
+
+namespace xpbd {
+namespace {
+
+void check_state_matches(const Model& m, const State& s) {
+  const auto n = static_cast<std::size_t>(m.num_particles());
+  if (s.x.size() != n || s.x_prev.size() != n || s.v.size() != n)
+    throw ConfigError("state: particle arrays have " + std::to_string(s.x.size()) +
+                      " entries, model has " + std::to_string(n) + " (use make_state)");
+  if (!s.f_ext.empty() && s.f_ext.size() != n)
+    throw ConfigError("state.f_ext: has " + std::to_string(s.f_ext.size()) +
+                      " entries, expected 0 or " + std::to_string(n));
+  const std::size_t pins = m.get<Pin>().size();
+  if (s.pin_target.size() != pins || s.pin_target_prev.size() != pins ||
+      s.pin_target_now.size() != pins)
+    throw ConfigError("state.pin_target: has " + std::to_string(s.pin_target.size()) +
+                      " entries, model has " + std::to_string(pins) + " pins");
+  bool ok = true;
+  for_each_constraint_type([&]<class T>(std::type_identity<T>) {
+    ok = ok && s.lambdas<T>().size() == m.get<T>().size();
+  });
+  if (!ok) throw ConfigError("state.lambda: sizes do not match the model (use make_state)");
+}
+
+// Pin targets at fraction t in [0, 1] of the step.
+void interpolate_pin_targets(State& s, Real t) {
+  for (std::size_t i = 0; i < s.pin_target.size(); ++i)
+    s.pin_target_now[i] = s.pin_target_prev[i] + t * (s.pin_target[i] - s.pin_target_prev[i]);
+}
+
+// Symplectic Euler prediction: x_prev = x, v += h (g + f/m), x += h v.
+// Kinematic particles (inverse mass 0) keep their velocity; a kinematic
+// particle with a pin is placed on the pin's current target.
+void predict(const Model& m, State& s, const StepConfig& cfg, Real h) {
+  const Index n = m.num_particles();
+  const bool forces = !s.f_ext.empty();
+  for (Index i = 0; i < n; ++i) {
+    s.x_prev[i] = s.x[i];
+    const Real w = m.inv_mass[i];
+    if (w > Real(0)) {
+      Vec3 a = cfg.gravity;
+      if (forces) a += w * s.f_ext[i];
+      s.v[i] += h * a;
+    }
+    s.x[i] += h * s.v[i];
+  }
+  const auto& pins = m.get<Pin>();
+  for (std::size_t k = 0; k < pins.size(); ++k) {
+    const Index i = pins[k].p[0];
+    if (m.inv_mass[i] == Real(0)) s.x[i] = s.pin_target_now[k];
+  }
+}
+
+void reset_multipliers(State& s) {
+  for (auto& l : s.lambda) std::fill(l.begin(), l.end(), Real(0));
+}
+
+// One Gauss-Seidel sweep over every constraint type, in ConstraintTypes order.
+void solve_constraints(const Model& m, State& s, const SolveContext& sc) {
+  for_each_constraint_type([&]<class T>(std::type_identity<T>) {
+    const auto& cs = m.get<T>();
+    if (cs.empty()) return;
+    std::span<const T> span(cs);
+    if (m.has_damping[type_index_v<T>])
+      project_all<T, true>(span, s.lambdas<T>(), sc);
+    else
+      project_all<T, false>(span, s.lambdas<T>(), sc);
+  });
+}
+
+// v = (x - x_prev)/h, then optional drag.
+void update_velocities(const Model& m, State& s, const StepConfig& cfg, Real h) {
+  const Index n = m.num_particles();
+  const Real inv_h = Real(1) / h;
+  const Real keep = cfg.drag > Real(0) ? std::exp(-cfg.drag * h) : Real(1);
+  for (Index i = 0; i < n; ++i) s.v[i] = (s.x[i] - s.x_prev[i]) * (inv_h * keep);
+}
+
+}  // namespace
+
+void validate(const StepConfig& cfg) {
+  if (!(cfg.dt > Real(0)) || !std::isfinite(cfg.dt))
+    throw ConfigError("StepConfig.dt: must be finite and > 0, got " + std::to_string(cfg.dt));
+  if (cfg.substeps < 1)
+    throw ConfigError("StepConfig.substeps: must be >= 1, got " + std::to_string(cfg.substeps));
+  if (cfg.iterations < 1)
+    throw ConfigError("StepConfig.iterations: must be >= 1, got " +
+                      std::to_string(cfg.iterations));
+  if (!cfg.gravity.allFinite()) throw ConfigError("StepConfig.gravity: must be finite");
+  if (!(cfg.drag >= Real(0)) || !std::isfinite(cfg.drag))
+    throw ConfigError("StepConfig.drag: must be finite and >= 0, got " + std::to_string(cfg.drag));
+}
+
+void step(const Model& m, State& s, const StepConfig& cfg) {
+  validate(cfg);
+  check_state_matches(m, s);
+  const Real h = cfg.dt / Real(cfg.substeps);
+
+  SolveContext sc;
+  sc.x = s.x.data();
+  sc.x_prev = s.x_prev.data();
+  sc.inv_mass = m.inv_mass.data();
+  sc.h = h;
+  sc.method = cfg.method;
+  sc.eval.x = s.x.data();
+  sc.eval.pin_target = s.pin_target_now.data();
+  sc.eval.planes = m.planes.data();
+
+  for (int sub = 0; sub < cfg.substeps; ++sub) {
+    // 1. Move kinematic targets to where they are at the end of this substep.
+    interpolate_pin_targets(s, Real(sub + 1) / Real(cfg.substeps));
+    // 2. Predict: external forces and inertia.
+    predict(m, s, cfg, h);
+    // 3. Solve: lambda starts at zero every substep (Algorithm 2, line 6),
+    //    then `iterations` Gauss-Seidel sweeps over all constraints.
+    reset_multipliers(s);
+    for (int it = 0; it < cfg.iterations; ++it) solve_constraints(m, s, sc);
+    // 4. Velocities from the position change.
+    update_velocities(m, s, cfg, h);
+  }
+  s.pin_target_prev = s.pin_target;  // same size: no allocation
+  s.time += cfg.dt;
+  s.last_substep = h;
+}
+
+}  // namespace xpbd
