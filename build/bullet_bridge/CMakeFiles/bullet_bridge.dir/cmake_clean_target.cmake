@@ -1,3 +1,0 @@
-file(REMOVE_RECURSE
-  "libbullet_bridge.a"
-)

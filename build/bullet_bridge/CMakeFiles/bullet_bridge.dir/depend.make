@@ -1,2 +1,0 @@
-# Empty dependencies file for bullet_bridge.
-# This may be replaced when dependencies are built.

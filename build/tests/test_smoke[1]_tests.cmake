@@ -1,7 +1,0 @@
-add_test([=[BridgeSmoke.BulletScalarMatchesXpbd]=]  /work/main/build/tests/test_smoke [==[--gtest_filter=BridgeSmoke.BulletScalarMatchesXpbd]==] --gtest_also_run_disabled_tests)
-set_tests_properties([=[BridgeSmoke.BulletScalarMatchesXpbd]=]  PROPERTIES WORKING_DIRECTORY /work/main/build/tests SKIP_REGULAR_EXPRESSION [==[\[  SKIPPED \]]==] LABELS bridge)
-add_test([=[BridgeSmoke.SphereComesToRestOnGroundAtItsRadius]=]  /work/main/build/tests/test_smoke [==[--gtest_filter=BridgeSmoke.SphereComesToRestOnGroundAtItsRadius]==] --gtest_also_run_disabled_tests)
-set_tests_properties([=[BridgeSmoke.SphereComesToRestOnGroundAtItsRadius]=]  PROPERTIES WORKING_DIRECTORY /work/main/build/tests SKIP_REGULAR_EXPRESSION [==[\[  SKIPPED \]]==] LABELS bridge)
-add_test([=[BridgeSmoke.FclSphereSphereDistanceIsCentreDistanceMinusRadii]=]  /work/main/build/tests/test_smoke [==[--gtest_filter=BridgeSmoke.FclSphereSphereDistanceIsCentreDistanceMinusRadii]==] --gtest_also_run_disabled_tests)
-set_tests_properties([=[BridgeSmoke.FclSphereSphereDistanceIsCentreDistanceMinusRadii]=]  PROPERTIES WORKING_DIRECTORY /work/main/build/tests SKIP_REGULAR_EXPRESSION [==[\[  SKIPPED \]]==] LABELS bridge)
-set(  test_smoke_TESTS BridgeSmoke.BulletScalarMatchesXpbd BridgeSmoke.SphereComesToRestOnGroundAtItsRadius BridgeSmoke.FclSphereSphereDistanceIsCentreDistanceMinusRadii)
