@@ -1,13 +1,26 @@
 #include "xpbd/step.hpp"
 
+#include <charconv>
 #include <cmath>
 #include <string>
 
 #include "xpbd/error.hpp"
+#include "xpbd/rigid_solve.hpp"
 #include "xpbd/solve.hpp"
+#include "xpbd/spatial_hash.hpp"
+#include "xpbd/special_constraints.hpp"
 
 namespace xpbd {
 namespace {
+
+// The shortest text that reads back as the same number, e.g. "-2.5e-07"
+// (std::to_string prints fixed 6 decimals, so that dt would read
+// "-0.000000"; a stream with 9 digits would print float's -2.49999999e-07).
+std::string num(Real v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
 
 void check_state_matches(const Model& m, const State& s) {
   const auto n = static_cast<std::size_t>(m.num_particles());
@@ -32,7 +45,9 @@ void check_state_matches(const Model& m, const State& s) {
 // Pin targets at fraction t in [0, 1] of the step.
 void interpolate_pin_targets(State& s, Real t) {
   for (std::size_t i = 0; i < s.pin_target.size(); ++i)
-    s.pin_target_now[i] = s.pin_target_prev[i] + t * (s.pin_target[i] - s.pin_target_prev[i]);
+    // (1-t) a + t b rather than a + t (b - a): exact at t = 1, so a kinematic
+    // pin ends every step exactly on the target the user set.
+    s.pin_target_now[i] = (Real(1) - t) * s.pin_target_prev[i] + t * s.pin_target[i];
 }
 
 // Symplectic Euler prediction: x_prev = x, v += h (g + f/m), x += h v.
@@ -60,6 +75,7 @@ void predict(const Model& m, State& s, const StepConfig& cfg, Real h) {
 
 void reset_multipliers(State& s) {
   for (auto& l : s.lambda) std::fill(l.begin(), l.end(), Real(0));
+  std::fill(s.self_collision.lambda.begin(), s.self_collision.lambda.end(), Real(0));
 }
 
 // One Gauss-Seidel sweep over every constraint type, in ConstraintTypes order.
@@ -67,11 +83,15 @@ void solve_constraints(const Model& m, State& s, const SolveContext& sc) {
   for_each_constraint_type([&]<class T>(std::type_identity<T>) {
     const auto& cs = m.get<T>();
     if (cs.empty()) return;
-    std::span<const T> span(cs);
-    if (m.has_damping[type_index_v<T>])
-      project_all<T, true>(span, s.lambdas<T>(), sc);
-    else
-      project_all<T, false>(span, s.lambdas<T>(), sc);
+    if constexpr (!is_generic_constraint_v<T>) {
+      solve_global_volumes(m, s, sc);  // GlobalVolume: variable arity, own kernel
+    } else {
+      std::span<const T> span(cs);
+      if (m.has_damping[type_index_v<T>])
+        project_all<T, true>(span, s.lambdas<T>(), sc);
+      else
+        project_all<T, false>(span, s.lambdas<T>(), sc);
+    }
   });
 }
 
@@ -87,7 +107,7 @@ void update_velocities(const Model& m, State& s, const StepConfig& cfg, Real h) 
 
 void validate(const StepConfig& cfg) {
   if (!(cfg.dt > Real(0)) || !std::isfinite(cfg.dt))
-    throw ConfigError("StepConfig.dt: must be finite and > 0, got " + std::to_string(cfg.dt));
+    throw ConfigError("StepConfig.dt: must be finite and > 0, got " + num(cfg.dt));
   if (cfg.substeps < 1)
     throw ConfigError("StepConfig.substeps: must be >= 1, got " + std::to_string(cfg.substeps));
   if (cfg.iterations < 1)
@@ -95,12 +115,19 @@ void validate(const StepConfig& cfg) {
                       std::to_string(cfg.iterations));
   if (!cfg.gravity.allFinite()) throw ConfigError("StepConfig.gravity: must be finite");
   if (!(cfg.drag >= Real(0)) || !std::isfinite(cfg.drag))
-    throw ConfigError("StepConfig.drag: must be finite and >= 0, got " + std::to_string(cfg.drag));
+    throw ConfigError("StepConfig.drag: must be finite and >= 0, got " + num(cfg.drag));
 }
 
 void step(const Model& m, State& s, const StepConfig& cfg) {
   validate(cfg);
   check_state_matches(m, s);
+  // Per-step constraint data: the side each penetration point starts on.
+  begin_step_constraints(m, s);
+  // Host-supplied rigid bodies, contacts and attachments: checked and sized.
+  rigid::begin_step(m, s);
+  // Opt-in particle-particle collision: candidate pairs within the contact
+  // distance plus the step's travel, from a spatial hash (spatial_hash.hpp).
+  find_self_collisions(m, s, cfg);
   const Real h = cfg.dt / Real(cfg.substeps);
 
   SolveContext sc;
@@ -112,18 +139,30 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
   sc.eval.x = s.x.data();
   sc.eval.pin_target = s.pin_target_now.data();
   sc.eval.planes = m.planes.data();
+  sc.eval.penetration_side = s.penetration_side.data();
 
   for (int sub = 0; sub < cfg.substeps; ++sub) {
     // 1. Move kinematic targets to where they are at the end of this substep.
     interpolate_pin_targets(s, Real(sub + 1) / Real(cfg.substeps));
-    // 2. Predict: external forces and inertia.
+    // 2. Predict: external forces and inertia; rigid bodies move with their velocity.
+    rigid::begin_substep(m, s);
     predict(m, s, cfg, h);
+    rigid::predict_bodies(s.bodies, h);
     // 3. Solve: lambda starts at zero every substep (Algorithm 2, line 6),
     //    then `iterations` Gauss-Seidel sweeps over all constraints.
     reset_multipliers(s);
-    for (int it = 0; it < cfg.iterations; ++it) solve_constraints(m, s, sc);
+    for (int it = 0; it < cfg.iterations; ++it) {
+      solve_constraints(m, s, sc);
+      solve_self_collisions(m, s, sc);
+      rigid::solve_attachments(m, s, h);
+      rigid::solve_contacts(m, s, h);
+      rigid::solve_triangle_contacts(m, s);
+    }
     // 4. Velocities from the position change.
     update_velocities(m, s, cfg, h);
+    rigid::update_body_velocities(s.bodies, h);
+    // 5. Contact friction and restitution on the new velocities.
+    rigid::contact_velocities(m, s, h, cfg.gravity.norm());
   }
   s.pin_target_prev = s.pin_target;  // same size: no allocation
   s.time += cfg.dt;

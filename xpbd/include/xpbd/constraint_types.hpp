@@ -13,7 +13,17 @@
 
 namespace xpbd {
 
-using ConstraintTypes = std::tuple<Distance, Collision, Wall, Pin>;
+// Order: stretch, then bending and volume, then contact-like inequalities
+// (so they have the last word within an iteration), then pins.
+using ConstraintTypes =
+    std::tuple<Distance, DihedralBending, IsometricBending, TetVolume, GlobalVolume, Collision,
+               Wall, Penetration, Tether, Pin>;
+
+// True for the types projected element by element by the generic
+// project_all (fixed kArity, p[], eval()). GlobalVolume has variable arity
+// and its own kernel, solve_global_volumes() (special_constraints.hpp).
+template <class T>
+inline constexpr bool is_generic_constraint_v = !std::is_same_v<T, GlobalVolume>;
 
 inline constexpr std::size_t kNumConstraintTypes = std::tuple_size_v<ConstraintTypes>;
 

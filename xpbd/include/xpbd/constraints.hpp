@@ -15,6 +15,12 @@
 // projection. It never divides by a vanishing norm, so it never produces NaN.
 // The math lives here; the bookkeeping (lambda, masses, damping) lives in the
 // single generic projection in solve.hpp.
+//
+// The types beyond the four below live in constraints_bending.hpp
+// (DihedralBending, IsometricBending), constraints_contact.hpp (Penetration,
+// Tether) and constraints_volume.hpp (TetVolume, GlobalVolume). GlobalVolume
+// is the one exception to the convention above: variable arity, no eval(),
+// its own kernel (special_constraints.hpp).
 #include <array>
 
 #include "xpbd/types.hpp"
@@ -23,12 +29,15 @@ namespace xpbd {
 
 // Per-constraint solver parameters.
 struct Material {
-  // XPBD compliance alpha = 1/stiffness, in units of [C]/N (m/N for the
-  // length constraints in this file). 0 = infinitely stiff.
+  // XPBD compliance alpha = 1/stiffness. The constraint energy is
+  // C^2/(2 alpha), so alpha is in [C]^2/J: m/N for length constraints,
+  // rad^2/J for angles, m^6/J for volumes (each type documents its unit).
+  // 0 = infinitely stiff.
   Real compliance = 0;
-  // XPBD constraint damping beta (Macklin et al. 2016, eq. 26), in N*s/[C]
-  // (N*s/m here). The solver uses gamma = alpha*beta/h, so damping has no
-  // effect on a constraint with zero compliance.
+  // XPBD constraint damping beta (Macklin et al. 2016, eq. 26), in
+  // J*s/[C]^2 (N*s/m for length constraints). The solver uses
+  // gamma = alpha*beta/h, so damping has no effect on a constraint with zero
+  // compliance.
   Real damping = 0;
   // PBD stiffness k in [0, 1] (dimensionless). Used by Method::pbd only; its
   // effect depends on the iteration count, which is the flaw PBD mode exists
@@ -47,6 +56,10 @@ struct EvalContext {
   const Vec3* x = nullptr;           // current particle positions
   const Vec3* pin_target = nullptr;  // per-pin target for the current substep
   const Plane* planes = nullptr;     // model planes
+  // Side (+1 or -1) of each Penetration element's point relative to its
+  // triangle at the start of the step (State::penetration_side). Must be set
+  // whenever the model has Penetration elements.
+  const Real* penetration_side = nullptr;
 };
 
 namespace detail {
@@ -140,3 +153,8 @@ struct Pin {
 };
 
 }  // namespace xpbd
+
+// The remaining constraint types (bending, volume, penetration, tether).
+#include "xpbd/constraints_bending.hpp"
+#include "xpbd/constraints_contact.hpp"
+#include "xpbd/constraints_volume.hpp"

@@ -32,7 +32,8 @@ Real constraint_force(const State& s, std::size_t k) {
 // Zero where the gradient is undefined.
 template <class T>
 Vec3 constraint_force_on(const Model& m, const State& s, std::size_t k, int i) {
-  EvalContext ctx{s.x.data(), s.pin_target_now.data(), m.planes.data()};
+  EvalContext ctx{s.x.data(), s.pin_target_now.data(), m.planes.data(),
+                  s.penetration_side.data()};
   Real C;
   Vec3 g[T::kArity];
   if (!T::eval(m.get<T>()[k], static_cast<Index>(k), ctx, C, g)) return Vec3::Zero();

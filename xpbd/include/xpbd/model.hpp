@@ -1,9 +1,11 @@
 #pragma once
 // Model: what a scene *is*. Immutable after compile(), shareable between many
 // State instances (MuJoCo's mjModel / Jolt's shared settings).
+#include <array>
 #include <vector>
 
 #include "xpbd/constraint_types.hpp"
+#include "xpbd/spatial_hash.hpp"
 #include "xpbd/types.hpp"
 
 namespace xpbd {
@@ -16,13 +18,24 @@ struct Model {
   std::vector<Vec3> v0;        // m/s, initial velocities (make_state)
 
   std::vector<Plane> planes;   // static planes referenced by Wall elements
+  // Triangles rigid features collide with (SceneDesc::collision_triangles).
+  std::vector<std::array<Index, 3>> collision_triangles;
   std::vector<Vec3> pin_target0;  // m, initial pin targets, one per Pin
 
   ConstraintArrays constraints;   // one flat array per constraint type
 
+  // GlobalVolume surfaces, flat: triangles as indices into
+  // global_volume_verts, which holds the particle index of every distinct
+  // surface vertex (each GlobalVolume owns a range of both).
+  std::vector<std::array<Index, 3>> global_volume_tris;
+  std::vector<Index> global_volume_verts;
+
   // True if any element of that type has damping != 0 (selects the kernel
   // variant that reads previous positions).
   std::array<bool, kNumConstraintTypes> has_damping{};
+
+  // Opt-in particle-particle collision (spatial_hash.hpp); empty when off.
+  SelfCollisionModel self_collision;
 
   Index num_particles() const { return static_cast<Index>(inv_mass.size()); }
 

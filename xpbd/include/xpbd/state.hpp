@@ -4,6 +4,8 @@
 #include <vector>
 
 #include "xpbd/constraint_types.hpp"
+#include "xpbd/rigid.hpp"
+#include "xpbd/spatial_hash.hpp"
 #include "xpbd/types.hpp"
 
 namespace xpbd {
@@ -27,9 +29,31 @@ struct State {
   std::vector<Vec3> pin_target_now;   // value in the current substep (internal)
 
   // Lagrange multipliers of the last substep, one array per constraint type,
-  // parallel to Model's constraint arrays. lambda is in units of [C]*kg
-  // (kg*m for length constraints); the generalized force is lambda/h^2.
+  // parallel to Model's constraint arrays. lambda is in J*s^2/[C] (kg*m for
+  // length constraints); the generalized force lambda/h^2 is in J/[C] (N for
+  // lengths, N*m/rad for angles, Pa for volumes).
   std::array<std::vector<Real>, kNumConstraintTypes> lambda;
+
+  // Penetration: side (+1 or -1) of each element's point relative to its
+  // triangle at the start of the current step (internal, written by step()).
+  std::vector<Real> penetration_side;
+  // GlobalVolume: gradient scratch (m^2), one entry per
+  // Model::global_volume_verts (internal, so step() does not allocate).
+  std::vector<Vec3> volume_grad;
+
+  // Rigid bodies and what touches them (rigid.hpp). Filled by the host (the
+  // Bullet bridge, or the user) before a step; empty = none and no cost.
+  std::vector<RigidBody> bodies;            // shadow states, read back after the step
+  std::vector<BodyContact> contacts;        // found once per step
+  std::vector<ContactLambda> contact_lambda;  // parallel to contacts (sized by step())
+  std::vector<BodyTriangleContact> triangle_contacts;  // rigid features vs soft triangles
+  std::vector<Real> triangle_contact_lambda;  // kg*m, parallel (sized by step())
+  std::vector<BodyAttachment> attachments;
+  std::vector<Real> attachment_lambda;      // kg*m, parallel to attachments (sized by step())
+
+  // Particle-particle collision (spatial_hash.hpp): hash and the pairs found
+  // at the start of the current step. Empty when the model has it off.
+  SelfCollisionState self_collision;
 
   Real time = 0;          // s, simulated time
   Real last_substep = 0;  // s, h of the last substep (for force estimates)

@@ -1,0 +1,108 @@
+#pragma once
+// Rigid bodies as seen by the particle solver: shadow states, particle-body
+// contacts and particle-body attachments (Mueller et al. 2020, "Detailed rigid
+// body simulation with extended position based dynamics").
+//
+// xpbd itself has no rigid-body dynamics of its own: a host (the Bullet
+// bridge, or a user) fills State::bodies with each body's pose and velocity at
+// the start of a step. During the substeps a body moves with that velocity
+// (the host has already integrated gravity and its own forces into it) plus the
+// corrections of the contacts and attachments that touch it, weighted by the
+// generalized inverse mass 1/m + (r x n)^T I^-1 (r x n). After the step the
+// host reads the body's velocity back and applies the change as an impulse.
+// Bodies with inv_mass 0 are static or kinematic: they move with their
+// velocity and are not pushed.
+#include <Eigen/Geometry>
+#include <array>
+#include <vector>
+
+#include "xpbd/types.hpp"
+
+namespace xpbd {
+
+using Quat = Eigen::Quaternion<Real>;
+
+struct RigidBody {
+  Vec3 x = Vec3::Zero();           // m, centre of mass, world
+  Quat q = Quat::Identity();       // orientation, body -> world
+  Vec3 v = Vec3::Zero();           // m/s, linear velocity of the centre of mass
+  Vec3 w = Vec3::Zero();           // rad/s, angular velocity, world frame
+  Real inv_mass = 0;               // 1/kg; 0 = static or kinematic
+  Vec3 inv_inertia = Vec3::Zero(); // 1/(kg m^2), principal axes of the body frame
+  // Pose at the start of the current substep (written by step()).
+  Vec3 x_prev = Vec3::Zero();
+  Quat q_prev = Quat::Identity();
+};
+
+// A particle touching the surface of a rigid body, found once per step by the
+// host (speculatively, within a margin) and re-projected every substep:
+//   C = n . (x_p - p_b) - thickness >= 0,  p_b = X + R r,  n = R n_body.
+// body < 0 means the static world: r and n are then world-frame values.
+struct BodyContact {
+  Index particle = 0;
+  Index body = -1;                 // index into State::bodies, or -1
+  Vec3 r = Vec3::Zero();           // m, contact point on the surface, body frame
+  Vec3 n = Vec3::UnitY();          // unit surface normal (out of the body), body frame
+  Real thickness = 0;              // m, particle radius plus surface thickness
+  Real static_friction = 0;        // mu_s, dimensionless, combined from both materials
+  Real dynamic_friction = 0;       // mu_d, dimensionless
+  Real restitution = 0;            // e in [0, 1]
+  Real compliance = 0;             // m/N
+};
+
+// Pins a particle to a point of a rigid body (dynamic: two-way; kinematic or
+// static: one-way): C = |x_p - p_b| = 0, p_b = X + R r.
+struct BodyAttachment {
+  Index particle = 0;
+  Index body = -1;                 // index into State::bodies, or -1 for a fixed world point
+  Vec3 r = Vec3::Zero();           // m, body frame (world if body < 0)
+  Real compliance = 0;             // m/N
+};
+
+// The seed's penetration constraint with the point on a rigid body: a
+// rigid feature point q = X + R r (a box corner, a point sampled along a box
+// edge, a hull vertex) against a soft triangle (x1, x2, x3):
+//   C = s (q - x1).n - thickness >= 0,  n = unit normal of the triangle,
+// with the side s recorded when the contact is found (start of the step), so
+// a corner that crossed the cloth during the step is pushed back. Gradients
+// as Penetration::point_triangle (constraints_contact.hpp); the body takes
+// its share through the generalized inverse mass along n.
+struct BodyTriangleContact {
+  Index body = -1;                   // index into State::bodies (-1 = static world point)
+  Vec3 r = Vec3::Zero();             // m, feature point, body frame (world if body < 0)
+  std::array<Index, 3> tri{};        // particle indices of the soft triangle
+  Real side = 1;                     // +1 or -1
+  Real thickness = 0;                // m
+};
+
+// Per-contact solver values of the current substep.
+struct ContactLambda {
+  Real normal = 0;   // kg*m, >= 0; force = normal / h^2
+  Real tangent = 0;  // kg*m, static friction multiplier
+  Real vn_start = 0; // m/s, relative normal velocity at the substep start (restitution)
+};
+
+namespace rigid {
+
+// World position of body point r (body frame) at the current pose.
+inline Vec3 world_point(const RigidBody& b, const Vec3& r) { return b.x + b.q * r; }
+
+// Generalized inverse mass of a body for a unit impulse along unit direction
+// n applied at world lever arm rw (from the centre of mass).
+inline Real inv_mass_along(const RigidBody& b, const Vec3& rw, const Vec3& n) {
+  if (b.inv_mass == Real(0)) return Real(0);
+  const Vec3 rn = b.q.conjugate() * rw.cross(n);
+  return b.inv_mass + rn.dot(b.inv_inertia.cwiseProduct(rn));
+}
+
+// World-frame inverse inertia applied to a world vector.
+inline Vec3 apply_inv_inertia(const RigidBody& b, const Vec3& a) {
+  return b.q * b.inv_inertia.cwiseProduct(b.q.conjugate() * a);
+}
+
+// Velocity of the body's material point at world lever arm rw.
+inline Vec3 point_velocity(const RigidBody& b, const Vec3& rw) { return b.v + b.w.cross(rw); }
+
+}  // namespace rigid
+
+}  // namespace xpbd

@@ -1,0 +1,35 @@
+#pragma once
+// Substep stages for rigid bodies, body contacts and body attachments
+// (see rigid.hpp). Called by step(); each costs nothing when its array is empty.
+#include "xpbd/model.hpp"
+#include "xpbd/rigid.hpp"
+#include "xpbd/state.hpp"
+
+namespace xpbd::rigid {
+
+// Sizes the per-contact and per-attachment multiplier arrays to the host's
+// lists (allocates only when a list outgrows its capacity) and checks every
+// index; throws ConfigError naming the bad element.
+void begin_step(const Model& m, State& s);
+
+// Records each contact's relative normal velocity (restitution) and zeroes the
+// multipliers. Call before predict.
+void begin_substep(const Model& m, State& s);
+
+// x_prev = x, q_prev = q, then x += h v, q += h/2 [w, 0] q (normalized).
+void predict_bodies(std::vector<RigidBody>& bodies, Real h);
+
+// One Gauss-Seidel pass over body attachments, then body contacts (normal
+// push with static Coulomb friction at position level).
+void solve_attachments(const Model& m, State& s, Real h);
+void solve_contacts(const Model& m, State& s, Real h);
+void solve_triangle_contacts(const Model& m, State& s);
+
+// v = (x - x_prev)/h and w from the quaternion change.
+void update_body_velocities(std::vector<RigidBody>& bodies, Real h);
+
+// Dynamic Coulomb friction and restitution on velocities (after the
+// particle and body velocity updates).
+void contact_velocities(const Model& m, State& s, Real h, Real gravity_norm);
+
+}  // namespace xpbd::rigid

@@ -1,0 +1,256 @@
+#include "xpbd/rigid_solve.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "xpbd/constraints_contact.hpp"
+#include "xpbd/error.hpp"
+
+namespace xpbd::rigid {
+namespace {
+
+// Moves body b by the positional impulse p (kg*m, world) applied at world
+// lever arm rw: dx = p/m, dtheta = I^-1 (rw x p) (Mueller et al. 2020, eq. 7-9).
+void apply_position_impulse(RigidBody& b, const Vec3& rw, const Vec3& p) {
+  if (b.inv_mass == Real(0)) return;
+  b.x += b.inv_mass * p;
+  const Vec3 dth = apply_inv_inertia(b, rw.cross(p));
+  const Quat dq(Real(0), dth.x(), dth.y(), dth.z());
+  b.q.coeffs() += Real(0.5) * (dq * b.q).coeffs();
+  b.q.normalize();
+}
+
+// The same for a velocity impulse j (N*s).
+void apply_velocity_impulse(RigidBody& b, const Vec3& rw, const Vec3& j) {
+  if (b.inv_mass == Real(0)) return;
+  b.v += b.inv_mass * j;
+  b.w += apply_inv_inertia(b, rw.cross(j));
+}
+
+// A body index < 0 stands for the static world: this body never moves.
+RigidBody& body_or_world(State& s, Index b) {
+  static thread_local RigidBody world;  // inv_mass 0, at the origin, at rest
+  return b < 0 ? world : s.bodies[b];
+}
+
+// World point, world normal and lever arm of a contact at the body's current pose.
+struct Frame {
+  Vec3 p, n, rw;
+};
+Frame contact_frame(const RigidBody& b, const BodyContact& c, bool world) {
+  if (world) return {c.r, c.n, Vec3::Zero()};
+  const Vec3 rw = b.q * c.r;
+  return {b.x + rw, b.q * c.n, rw};
+}
+
+}  // namespace
+
+void begin_step(const Model& m, State& s) {
+  const Index np = m.num_particles();
+  const auto nb = static_cast<Index>(s.bodies.size());
+  for (std::size_t k = 0; k < s.bodies.size(); ++k) {
+    const RigidBody& b = s.bodies[k];
+    if (!(b.inv_mass >= Real(0)) || !std::isfinite(b.inv_mass) || !b.inv_inertia.allFinite() ||
+        (b.inv_inertia.array() < Real(0)).any() || !b.x.allFinite() || !b.v.allFinite() ||
+        !b.w.allFinite() || !b.q.coeffs().allFinite())
+      throw ConfigError("state.bodies[" + std::to_string(k) +
+                        "]: pose, velocities and inverse mass/inertia must be finite and "
+                        "inverse mass/inertia >= 0");
+  }
+  auto check = [&](const char* what, std::size_t k, Index p, Index b) {
+    if (p < 0 || p >= np)
+      throw ConfigError(std::string("state.") + what + "[" + std::to_string(k) +
+                        "].particle: index " + std::to_string(p) + " out of range [0, " +
+                        std::to_string(np) + ")");
+    if (b >= nb)
+      throw ConfigError(std::string("state.") + what + "[" + std::to_string(k) + "].body: index " +
+                        std::to_string(b) + " out of range [-1, " + std::to_string(nb) + ")");
+  };
+  for (std::size_t k = 0; k < s.contacts.size(); ++k)
+    check("contacts", k, s.contacts[k].particle, s.contacts[k].body);
+  for (std::size_t k = 0; k < s.attachments.size(); ++k)
+    check("attachments", k, s.attachments[k].particle, s.attachments[k].body);
+  for (std::size_t k = 0; k < s.triangle_contacts.size(); ++k)
+    for (Index p : s.triangle_contacts[k].tri) check("triangle_contacts", k, p, s.triangle_contacts[k].body);
+  s.contact_lambda.resize(s.contacts.size());
+  s.triangle_contact_lambda.resize(s.triangle_contacts.size());
+  s.attachment_lambda.resize(s.attachments.size());
+}
+
+void begin_substep(const Model& m, State& s) {
+  (void)m;
+  std::fill(s.attachment_lambda.begin(), s.attachment_lambda.end(), Real(0));
+  std::fill(s.triangle_contact_lambda.begin(), s.triangle_contact_lambda.end(), Real(0));
+  for (std::size_t k = 0; k < s.contacts.size(); ++k) {
+    const BodyContact& c = s.contacts[k];
+    const RigidBody& b = body_or_world(s, c.body);
+    const Frame f = contact_frame(b, c, c.body < 0);
+    const Vec3 vb = c.body < 0 ? Vec3::Zero() : point_velocity(b, f.rw);
+    s.contact_lambda[k] = ContactLambda{Real(0), Real(0), f.n.dot(s.v[c.particle] - vb)};
+  }
+}
+
+void predict_bodies(std::vector<RigidBody>& bodies, Real h) {
+  for (RigidBody& b : bodies) {
+    b.x_prev = b.x;
+    b.q_prev = b.q;
+    b.x += h * b.v;
+    const Quat dq(Real(0), b.w.x(), b.w.y(), b.w.z());
+    b.q.coeffs() += (Real(0.5) * h) * (dq * b.q).coeffs();
+    b.q.normalize();
+  }
+}
+
+void solve_attachments(const Model& m, State& s, Real h) {
+  const Real inv_h2 = Real(1) / (h * h);
+  for (std::size_t k = 0; k < s.attachments.size(); ++k) {
+    const BodyAttachment& a = s.attachments[k];
+    RigidBody& b = body_or_world(s, a.body);
+    const Vec3 rw = a.body < 0 ? Vec3::Zero() : Vec3(b.q * a.r);
+    const Vec3 pb = a.body < 0 ? a.r : Vec3(b.x + rw);
+    const Vec3 d = s.x[a.particle] - pb;
+    const Real len = d.norm();
+    if (!(len > Real(0))) continue;  // already on the point: direction undefined, C = 0
+    const Vec3 n = d / len;
+    const Real wp = m.inv_mass[a.particle];
+    const Real wb = inv_mass_along(b, rw, n);
+    const Real at = a.compliance * inv_h2;
+    const Real den = wp + wb + at;
+    if (!(den > Real(0))) continue;
+    const Real dl = (-len - at * s.attachment_lambda[k]) / den;
+    s.attachment_lambda[k] += dl;
+    s.x[a.particle] += (wp * dl) * n;
+    apply_position_impulse(b, rw, -dl * n);
+  }
+}
+
+void solve_contacts(const Model& m, State& s, Real h) {
+  const Real inv_h2 = Real(1) / (h * h);
+  for (std::size_t k = 0; k < s.contacts.size(); ++k) {
+    const BodyContact& c = s.contacts[k];
+    ContactLambda& l = s.contact_lambda[k];
+    RigidBody& b = body_or_world(s, c.body);
+    const bool world = c.body < 0;
+    const Index p = c.particle;
+    const Real wp = m.inv_mass[p];
+    Frame f = contact_frame(b, c, world);
+
+    // Normal: C = n.(x_p - p_b) - thickness >= 0; the accumulated lambda is
+    // clamped at >= 0 so the contact only pushes.
+    const Real C = f.n.dot(s.x[p] - f.p) - c.thickness;
+    if (C >= Real(0) && l.normal == Real(0)) continue;
+    const Real wb = inv_mass_along(b, f.rw, f.n);
+    const Real at = c.compliance * inv_h2;
+    const Real den = wp + wb + at;
+    if (!(den > Real(0))) continue;
+    const Real ln = std::max(l.normal + (-C - at * l.normal) / den, Real(0));
+    const Real dl = ln - l.normal;
+    l.normal = ln;
+    s.x[p] += (wp * dl) * f.n;
+    apply_position_impulse(b, f.rw, -dl * f.n);
+
+    // Static friction (position level, Mueller et al. 2020 sec. 3.5): undo
+    // the tangential motion of the particle relative to the body point over
+    // this substep while the tangential multiplier stays inside the cone
+    // |lambda_t| <= mu_s lambda_n.
+    if (c.static_friction <= Real(0) || l.normal <= Real(0)) continue;
+    if (!world) f = contact_frame(b, c, false);
+    const Vec3 pb_prev = world ? f.p : Vec3(b.x_prev + b.q_prev * c.r);
+    const Vec3 rel = (s.x[p] - s.x_prev[p]) - (f.p - pb_prev);
+    const Vec3 dt = rel - f.n.dot(rel) * f.n;
+    const Real len = dt.norm();
+    if (!(len > kDegenerateRel * c.thickness) || len == Real(0)) continue;
+    const Vec3 t = dt / len;
+    const Real wt = wp + inv_mass_along(b, f.rw, t);
+    if (!(wt > Real(0))) continue;
+    const Real dlt = -len / wt;
+    if (std::abs(l.tangent + dlt) > c.static_friction * l.normal) continue;
+    l.tangent += dlt;
+    s.x[p] += (wp * dlt) * t;
+    apply_position_impulse(b, f.rw, -dlt * t);
+  }
+}
+
+void solve_triangle_contacts(const Model& m, State& s) {
+  for (std::size_t k = 0; k < s.triangle_contacts.size(); ++k) {
+    const BodyTriangleContact& c = s.triangle_contacts[k];
+    RigidBody& b = body_or_world(s, c.body);
+    const Vec3 rw = c.body < 0 ? Vec3::Zero() : Vec3(b.q * c.r);
+    const Vec3 q = c.body < 0 ? c.r : Vec3(b.x + rw);
+    Real C;
+    Vec3 g[4];
+    if (!Penetration::point_triangle(q, s.x[c.tri[0]], s.x[c.tri[1]], s.x[c.tri[2]], c.side,
+                                     c.thickness, C, g))
+      continue;  // degenerate triangle
+    Real& lambda = s.triangle_contact_lambda[k];
+    if (C >= Real(0) && lambda == Real(0)) continue;
+    // g[0] = s n is a unit vector: the body's share is its inverse mass along it.
+    Real den = inv_mass_along(b, rw, g[0]);
+    for (int i = 0; i < 3; ++i) den += m.inv_mass[c.tri[i]] * g[i + 1].squaredNorm();
+    if (!(den > Real(0))) continue;
+    const Real l = std::max(lambda - C / den, Real(0));
+    const Real dl = l - lambda;
+    lambda = l;
+    for (int i = 0; i < 3; ++i) s.x[c.tri[i]] += (m.inv_mass[c.tri[i]] * dl) * g[i + 1];
+    apply_position_impulse(b, rw, dl * g[0]);
+  }
+}
+
+void update_body_velocities(std::vector<RigidBody>& bodies, Real h) {
+  const Real inv_h = Real(1) / h;
+  for (RigidBody& b : bodies) {
+    b.v = (b.x - b.x_prev) * inv_h;
+    Quat dq = b.q * b.q_prev.conjugate();
+    if (dq.w() < Real(0)) dq.coeffs() = -dq.coeffs();
+    b.w = (Real(2) * inv_h) * dq.vec();
+  }
+}
+
+void contact_velocities(const Model& m, State& s, Real h, Real gravity_norm) {
+  const Real inv_h = Real(1) / h;
+  for (std::size_t k = 0; k < s.contacts.size(); ++k) {
+    const BodyContact& c = s.contacts[k];
+    const ContactLambda& l = s.contact_lambda[k];
+    if (l.normal <= Real(0)) continue;  // not touching in this substep
+    RigidBody& b = body_or_world(s, c.body);
+    const bool world = c.body < 0;
+    const Index p = c.particle;
+    const Real wp = m.inv_mass[p];
+    const Frame f = contact_frame(b, c, world);
+    const auto rel_velocity = [&] {
+      return Vec3(s.v[p] - (world ? Vec3::Zero() : point_velocity(b, f.rw)));
+    };
+    Vec3 vr = rel_velocity();
+    const Real vn = f.n.dot(vr);
+    const Vec3 vt = vr - vn * f.n;
+    const Real vt_len = vt.norm();
+
+    // Dynamic Coulomb friction: the tangential impulse is at most
+    // mu_d * (normal impulse lambda_n / h) and never reverses the sliding.
+    if (c.dynamic_friction > Real(0) && vt_len > Real(0)) {
+      const Vec3 t = vt / vt_len;
+      const Real wt = wp + inv_mass_along(b, f.rw, t);
+      if (wt > Real(0)) {
+        const Real jt = std::min(c.dynamic_friction * l.normal * inv_h, vt_len / wt);
+        s.v[p] -= (wp * jt) * t;
+        apply_velocity_impulse(b, f.rw, jt * t);
+      }
+    }
+
+    // Restitution: if the approach at the substep start was faster than what
+    // gravity adds in two substeps (resting contact), reflect it.
+    if (c.restitution > Real(0) && l.vn_start < -Real(2) * gravity_norm * h) {
+      vr = rel_velocity();
+      const Real target = -c.restitution * l.vn_start;
+      const Real wn = wp + inv_mass_along(b, f.rw, f.n);
+      if (wn > Real(0)) {
+        const Real jn = (target - f.n.dot(vr)) / wn;
+        s.v[p] += (wp * jn) * f.n;
+        apply_velocity_impulse(b, f.rw, -jn * f.n);
+      }
+    }
+  }
+}
+
+}  // namespace xpbd::rigid
