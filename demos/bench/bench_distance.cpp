@@ -1,0 +1,445 @@
+// Distance-constraint projection benchmark (DESIGN.md section 7).
+//
+// Scene: a 64 x 64 cloth (1 m x 1 m, 1 kg, two corners pinned) built with
+// xpbd::add_cloth_grid, the builder demos and tests use. Its distance set is
+// structural + shear + bending-distance edges: 8064 + 7938 + 7936 = 23938.
+//
+// Every benchmark reports ns_per_projection (one projection = one constraint
+// element visited once by the solver):
+//   kernel_sweep/*  one Gauss-Seidel sweep of xpbd::project_all<Distance>
+//                   over all distance constraints (what step() runs: the
+//                   pair-distance kernel of solve.hpp);
+//   generic_sweep/* the same sweep through project_all_generic, the
+//                   eval()-based kernel every other constraint type uses;
+//   naive_sweep/*   the same sweep written as a straightforward scalar loop
+//                   over an array of structs (reference, below);
+//   step/*          a full xpbd::step() of the cloth scene, time divided by
+//                   substeps * iterations * constraints (so predict and the
+//                   velocity update are charged to the projections).
+// At the end the program prints the medians (or single runs) and the ratio of
+// the naive sweep to each benchmark, all measured in this run.
+//
+// Snapshot / restore (DESIGN.md principle 7): the cloth is warmed up by a few
+// steps of free swinging; that State is the snapshot. Each measured batch
+// first restores the snapshot (untimed), so every timed sweep or step starts
+// from the same configuration and does the same work.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "xpbd/solve.hpp"
+#include "xpbd/xpbd.hpp"
+
+namespace {
+
+using namespace xpbd;
+using Clock = std::chrono::steady_clock;
+
+constexpr int kGrid = 64;
+constexpr int kWarmupSteps = 30;  // 0.5 s at 60 Hz: the cloth is folding and swinging
+
+enum class Stiffness { compliant, rigid, damped };
+
+const char* name(Stiffness s) {
+  switch (s) {
+    case Stiffness::compliant: return "compliant";
+    case Stiffness::rigid: return "rigid";
+    case Stiffness::damped: return "damped";
+  }
+  return "?";
+}
+
+// The benchmark scene and its warm snapshot. `sweep_x` is the warm state's
+// positions advanced by one prediction (x + h v + h^2 g), i.e. what the first
+// sweep of a substep sees; lambda starts at zero as after reset_multipliers().
+struct ClothBench {
+  Model model;
+  StepConfig cfg;
+  State snapshot;
+  std::vector<Vec3> sweep_x;
+  std::vector<Vec3> sweep_x_prev;
+};
+
+ClothBench build(Stiffness stiffness) {
+  SceneDesc scene;
+  ClothGridDesc d;
+  d.nx = d.ny = kGrid;
+  d.size_u = d.size_v = 1;
+  d.u = Vec3::UnitX();
+  d.v = Vec3::UnitZ();  // horizontal: it falls and swings from two corners
+  d.mass = 1;
+  d.pinned = {{0, 0}, {kGrid - 1, 0}};
+  if (stiffness != Stiffness::rigid) {
+    // m/N. Realistic orders for a 1 kg, 1 m cloth with 1.6 cm edges; the
+    // cost of a projection does not depend on the value, only on 0 or not.
+    d.stretch.compliance = Real(1e-6);
+    d.shear_mat.compliance = Real(1e-5);
+    d.bend_mat.compliance = Real(1e-4);
+  }
+  if (stiffness == Stiffness::damped) {
+    // N*s/m; gamma = alpha*beta/h stays O(1e-3..1e-1), a mild damping.
+    d.stretch.damping = d.shear_mat.damping = d.bend_mat.damping = Real(10);
+  }
+  add_cloth_grid(scene, d);
+
+  ClothBench b;
+  b.model = compile(scene);
+  b.cfg.substeps = 10;
+  b.cfg.iterations = 1;
+  State s = make_state(b.model);
+  for (int i = 0; i < kWarmupSteps; ++i) step(b.model, s, b.cfg);
+  b.snapshot = s;
+
+  const Real h = b.cfg.dt / Real(b.cfg.substeps);
+  b.sweep_x_prev = s.x;
+  b.sweep_x = s.x;
+  for (std::size_t i = 0; i < s.x.size(); ++i)
+    if (b.model.inv_mass[i] > Real(0)) b.sweep_x[i] += h * (s.v[i] + h * b.cfg.gravity);
+  return b;
+}
+
+const ClothBench& cloth(Stiffness s) {
+  static const ClothBench c[3] = {build(Stiffness::compliant), build(Stiffness::rigid),
+                                  build(Stiffness::damped)};
+  return c[static_cast<int>(s)];
+}
+
+// ---------------------------------------------------------------------------
+// Naive reference: what a first XPBD implementation typically looks like.
+// Array of structs (position and inverse mass interleaved, lambda inside the
+// constraint), the constraint value and the gradient computed by separate
+// functions (each recomputing the edge vector and its length), alpha/h^2
+// recomputed per constraint. Same math and the same order as project_all, so
+// after one sweep both give the same positions to round-off (checked below).
+namespace naive {
+
+struct Particle {
+  Real x[3];  // m
+  Real w;     // 1/kg
+};
+
+struct Edge {
+  int a, b;
+  Real rest;        // m
+  Real compliance;  // m/N
+  Real damping;     // N*s/m
+  Real lambda;      // kg*m
+};
+
+Real length(const Particle* p, const Edge& e) {
+  Real s = 0;
+  for (int i = 0; i < 3; ++i) {
+    const Real d = p[e.a].x[i] - p[e.b].x[i];
+    s += d * d;
+  }
+  return std::sqrt(s);
+}
+
+Real constraint(const Particle* p, const Edge& e) { return length(p, e) - e.rest; }
+
+// Gradient with respect to x_a (the one for x_b is its negative).
+void gradient(const Particle* p, const Edge& e, Real g[3]) {
+  const Real len = length(p, e);
+  for (int i = 0; i < 3; ++i) g[i] = (p[e.a].x[i] - p[e.b].x[i]) / len;
+}
+
+void sweep(Particle* p, const Real* x_prev, Edge* edges, std::size_t n, Real h) {
+  for (std::size_t k = 0; k < n; ++k) {
+    Edge& e = edges[k];
+    if (!(length(p, e) > kDegenerateRel * e.rest)) continue;
+    const Real C = constraint(p, e);
+    Real g[3];
+    gradient(p, e, g);
+    const Real gg = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
+    const Real wsum = p[e.a].w * gg + p[e.b].w * gg;
+    const Real at = e.compliance / (h * h);
+    const Real gamma = e.compliance * e.damping / h;
+    Real gv = 0;  // grad C . (x - x_prev)
+    for (int i = 0; i < 3; ++i)
+      gv += g[i] * ((p[e.a].x[i] - x_prev[3 * e.a + i]) - (p[e.b].x[i] - x_prev[3 * e.b + i]));
+    const Real den = (Real(1) + gamma) * wsum + at;
+    if (!(den > Real(0))) continue;
+    const Real dl = (-C - at * e.lambda - gamma * gv) / den;
+    e.lambda += dl;
+    for (int i = 0; i < 3; ++i) {
+      p[e.a].x[i] += p[e.a].w * dl * g[i];
+      p[e.b].x[i] -= p[e.b].w * dl * g[i];
+    }
+  }
+}
+
+struct Data {
+  std::vector<Particle> particles;
+  std::vector<Real> x_prev;  // 3 per particle
+  std::vector<Edge> edges;
+};
+
+Data from(const ClothBench& b) {
+  Data d;
+  for (std::size_t i = 0; i < b.sweep_x.size(); ++i) {
+    d.particles.push_back(
+        Particle{{b.sweep_x[i].x(), b.sweep_x[i].y(), b.sweep_x[i].z()}, b.model.inv_mass[i]});
+    for (int c = 0; c < 3; ++c) d.x_prev.push_back(b.sweep_x_prev[i][c]);
+  }
+  for (const Distance& c : b.model.get<Distance>())
+    d.edges.push_back(Edge{c.p[0], c.p[1], c.rest, c.mat.compliance, c.mat.damping, 0});
+  return d;
+}
+
+}  // namespace naive
+
+// ---------------------------------------------------------------------------
+// Kernel sweep: project_all<Distance> as step() calls it.
+
+SolveContext context(const ClothBench& b, State& s) {
+  SolveContext sc;
+  sc.x = s.x.data();
+  sc.x_prev = s.x_prev.data();
+  sc.inv_mass = b.model.inv_mass.data();
+  sc.h = b.cfg.dt / Real(b.cfg.substeps);
+  sc.method = Method::xpbd;
+  sc.eval.x = s.x.data();
+  return sc;
+}
+
+enum class Kernel { dispatch, generic };
+
+void kernel_sweep(const ClothBench& b, State& s, const SolveContext& sc,
+                  Kernel kernel = Kernel::dispatch) {
+  const std::span<const Distance> cs(b.model.get<Distance>());
+  std::span<Real> lambda(s.lambdas<Distance>());
+  const bool damped = b.model.has_damping[type_index_v<Distance>];
+  if (kernel == Kernel::dispatch) {
+    if (damped)
+      project_all<Distance, true>(cs, lambda, sc);
+    else
+      project_all<Distance, false>(cs, lambda, sc);
+  } else {
+    if (damped)
+      project_all_generic<Distance, true>(cs, lambda, sc);
+    else
+      project_all_generic<Distance, false>(cs, lambda, sc);
+  }
+}
+
+// One sweep from the snapshot by the kernel and by the naive loop: the
+// largest coordinate difference between the two, the largest correction the
+// sweep applied, and the largest coordinate (all in m).
+struct Agreement {
+  Real diff = 0, correction = 0, scale = 0;
+};
+
+Agreement kernel_vs_naive(const ClothBench& b, Kernel kernel) {
+  State s = b.snapshot;
+  s.x = b.sweep_x;
+  s.x_prev = b.sweep_x_prev;
+  std::fill(s.lambdas<Distance>().begin(), s.lambdas<Distance>().end(), Real(0));
+  kernel_sweep(b, s, context(b, s), kernel);
+  naive::Data d = naive::from(b);
+  naive::sweep(d.particles.data(), d.x_prev.data(), d.edges.data(), d.edges.size(),
+               b.cfg.dt / Real(b.cfg.substeps));
+  Agreement a;
+  for (std::size_t i = 0; i < s.x.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      a.diff = std::max(a.diff, std::abs(s.x[i][c] - d.particles[i].x[c]));
+      a.correction = std::max(a.correction, std::abs(s.x[i][c] - b.sweep_x[i][c]));
+      a.scale = std::max(a.scale, std::abs(b.sweep_x[i][c]));
+    }
+  return a;
+}
+
+// Both implementations do the same floating-point operations up to
+// association (d/len vs d*(1/len), alpha/h^2 vs alpha*(1/h)^2, ...), so they
+// differ by a few ulp of the coordinates per projection; one Gauss-Seidel
+// sweep does not amplify that much (about 1 ulp is observed). Allow 64 ulp
+// of the largest coordinate. The check is only meaningful if the sweep's
+// corrections are well above that (a wrong formula or order shows up at the
+// size of the corrections), so at least 10x that is required too.
+bool check_agreement(benchmark::State& bs, const ClothBench& b, Kernel kernel) {
+  const Agreement a = kernel_vs_naive(b, kernel);
+  const Real tol = 64 * kEpsilon * a.scale;
+  std::string msg;
+  if (!(a.diff <= tol))
+    msg = "kernel and naive sweep disagree by " + std::to_string(a.diff) + " m";
+  else if (!(a.correction > 10 * tol))
+    msg = "corrections too small to compare: " + std::to_string(a.correction) + " m";
+  if (!msg.empty()) {
+    bs.SkipWithError(msg.c_str());
+    return false;
+  }
+  bs.counters["max_diff_vs_naive_m"] = static_cast<double>(a.diff);
+  bs.counters["max_correction_m"] = static_cast<double>(a.correction);
+  return true;
+}
+
+void BM_kernel_sweep(benchmark::State& bs, Stiffness stiffness, Kernel kernel) {
+  const ClothBench& b = cloth(stiffness);
+  if (!check_agreement(bs, b, kernel)) return;
+  State s = b.snapshot;
+  const SolveContext sc = context(b, s);
+  auto& lambda = s.lambdas<Distance>();
+  double ns = 0;
+  for (auto _ : bs) {
+    std::copy(b.sweep_x.begin(), b.sweep_x.end(), s.x.begin());  // restore (untimed)
+    std::copy(b.sweep_x_prev.begin(), b.sweep_x_prev.end(), s.x_prev.begin());
+    std::fill(lambda.begin(), lambda.end(), Real(0));
+    const auto t0 = Clock::now();
+    kernel_sweep(b, s, sc, kernel);
+    benchmark::ClobberMemory();
+    const auto t1 = Clock::now();
+    const double dt = std::chrono::duration<double>(t1 - t0).count();
+    bs.SetIterationTime(dt);
+    ns += dt * 1e9;
+  }
+  benchmark::DoNotOptimize(s.x.data());
+  const double projections = double(b.model.get<Distance>().size()) * double(bs.iterations());
+  bs.counters["ns_per_projection"] = ns / projections;
+  bs.counters["constraints"] = double(b.model.get<Distance>().size());
+}
+
+void BM_naive_sweep(benchmark::State& bs, Stiffness stiffness) {
+  const ClothBench& b = cloth(stiffness);
+  const naive::Data start = naive::from(b);
+  naive::Data d = start;
+  const Real h = b.cfg.dt / Real(b.cfg.substeps);
+  double ns = 0;
+  for (auto _ : bs) {
+    std::copy(start.particles.begin(), start.particles.end(), d.particles.begin());
+    std::copy(start.edges.begin(), start.edges.end(), d.edges.begin());  // lambda = 0
+    const auto t0 = Clock::now();
+    naive::sweep(d.particles.data(), d.x_prev.data(), d.edges.data(), d.edges.size(), h);
+    benchmark::ClobberMemory();
+    const auto t1 = Clock::now();
+    const double dt = std::chrono::duration<double>(t1 - t0).count();
+    bs.SetIterationTime(dt);
+    ns += dt * 1e9;
+  }
+  benchmark::DoNotOptimize(d.particles.data());
+  const double projections = double(d.edges.size()) * double(bs.iterations());
+  bs.counters["ns_per_projection"] = ns / projections;
+  bs.counters["constraints"] = double(d.edges.size());
+}
+
+// Full step of the cloth scene; every constraint type of the model counts
+// (here: the distances plus the two kinematic pins).
+void BM_step(benchmark::State& bs, Stiffness stiffness, int substeps, int iterations) {
+  const ClothBench& b = cloth(stiffness);
+  StepConfig cfg = b.cfg;
+  cfg.substeps = substeps;
+  cfg.iterations = iterations;
+  State s = b.snapshot;
+  std::size_t constraints = 0;
+  for_each_constraint_type(
+      [&]<class T>(std::type_identity<T>) { constraints += b.model.get<T>().size(); });
+  double ns = 0;
+  for (auto _ : bs) {
+    s = b.snapshot;  // restore (untimed); same sizes, so the vectors reuse their storage
+    const auto t0 = Clock::now();
+    step(b.model, s, cfg);
+    benchmark::ClobberMemory();
+    const auto t1 = Clock::now();
+    const double dt = std::chrono::duration<double>(t1 - t0).count();
+    bs.SetIterationTime(dt);
+    ns += dt * 1e9;
+  }
+  const double projections =
+      double(constraints) * double(substeps) * double(iterations) * double(bs.iterations());
+  bs.counters["ns_per_projection"] = ns / projections;
+  bs.counters["constraints"] = double(constraints);
+  bs.counters["ms_per_step"] = ns * 1e-6 / double(bs.iterations());
+}
+
+template <class... Args>
+void add(const std::string& name, benchmark::TimeUnit unit, Args&&... args) {
+  benchmark::RegisterBenchmark(name.c_str(), std::forward<Args>(args)...)
+      ->UseManualTime()
+      ->Unit(unit);
+}
+
+void register_all() {
+  for (Stiffness s : {Stiffness::compliant, Stiffness::rigid, Stiffness::damped}) {
+    const std::string n = name(s);
+    add("naive_sweep/" + n, benchmark::kMicrosecond, BM_naive_sweep, s);
+    add("generic_sweep/" + n, benchmark::kMicrosecond, BM_kernel_sweep, s, Kernel::generic);
+    add("kernel_sweep/" + n, benchmark::kMicrosecond, BM_kernel_sweep, s, Kernel::dispatch);
+  }
+  for (Stiffness s : {Stiffness::compliant, Stiffness::rigid}) {
+    const std::string n = name(s);
+    add("step/" + n + "/substeps:10/iterations:1", benchmark::kMillisecond, BM_step, s, 10, 1);
+    add("step/" + n + "/substeps:1/iterations:10", benchmark::kMillisecond, BM_step, s, 1, 10);
+  }
+}
+
+// Console output as usual, plus a summary: ns per projection of every
+// benchmark (median when repetitions were asked for) and the naive sweep's
+// ns per projection divided by it (the speed-up over the naive loop, with
+// the same stiffness, in this run).
+class SummaryReporter : public benchmark::ConsoleReporter {
+ public:
+  void ReportRuns(const std::vector<Run>& runs) override {
+    for (const Run& r : runs) {
+      if (r.error_occurred) continue;
+      const auto it = r.counters.find("ns_per_projection");
+      if (it == r.counters.end()) continue;
+      const std::string n = r.run_name.function_name;
+      const bool median = r.run_type == Run::RT_Aggregate && r.aggregate_name == "median";
+      if (r.run_type == Run::RT_Aggregate && !median) continue;
+      Entry& e = results_[n];
+      if (median || !e.median) e = Entry{it->second.value, median};
+      if (std::find(order_.begin(), order_.end(), n) == order_.end()) order_.push_back(n);
+    }
+    ConsoleReporter::ReportRuns(runs);
+  }
+
+  void summary() const {
+    if (results_.empty()) return;
+    std::printf("\nns per projection (%s), and speed-up over the naive sweep of the same\n"
+                "stiffness in this run\n",
+                any_median() ? "median of repetitions" : "single run");
+    std::printf("%-44s %12s %12s\n", "benchmark", "ns/proj", "naive/this");
+    for (const std::string& n : order_) {
+      const double v = results_.at(n).value;
+      // "step/rigid/substeps:10/iterations:1" -> "naive_sweep/rigid"
+      const std::size_t a = n.find('/') + 1, b = n.find('/', a);
+      const auto naive = results_.find("naive_sweep/" + n.substr(a, b - a));
+      if (naive != results_.end())
+        std::printf("%-44s %12.2f %12.2f\n", n.c_str(), v, naive->second.value / v);
+      else
+        std::printf("%-44s %12.2f %12s\n", n.c_str(), v, "-");
+    }
+  }
+
+ private:
+  struct Entry {
+    double value = 0;
+    bool median = false;
+  };
+  bool any_median() const {
+    for (const auto& [n, e] : results_)
+      if (e.median) return true;
+    return false;
+  }
+  std::map<std::string, Entry> results_;
+  std::vector<std::string> order_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  register_all();
+  SummaryReporter reporter;
+  benchmark::RunSpecifiedBenchmarks(&reporter);
+  reporter.summary();
+  benchmark::Shutdown();
+  return 0;
+}
