@@ -8,4 +8,5 @@
 #include "xpbd/model.hpp"
 #include "xpbd/scene.hpp"
 #include "xpbd/state.hpp"
+#include "xpbd/rigid.hpp"
 #include "xpbd/step.hpp"
