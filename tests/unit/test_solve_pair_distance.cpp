@@ -246,5 +246,57 @@ TEST(PairDistanceKernel, AllKinematicRigidPairIsSkipped) {
   EXPECT_EQ(lambda[0], Real(0));
 }
 
+// SolveContext::reverse (StepConfig::alternate_sweeps): a reversed sweep
+// over cs is, bit for bit, a forward sweep over cs reversed. Both kernels
+// (pair-distance for Distance, generic for the tether's eval() path), with
+// several sweeps so that lambda != 0 and clamps are exercised.
+template <class T, bool kGeneric>
+void check_reverse_is_reversed_order(Method method) {
+  std::mt19937 rng(777);
+  const Cloud start = make_cloud(rng, 30);
+  const std::vector<T> cs = make_pairs<T>(rng, start, 200, true);
+  const std::vector<T> rev(cs.rbegin(), cs.rend());
+  const Real h = Real(1) / Real(600);  // s
+  Cloud a = start, b = start;
+  std::vector<Real> la(cs.size(), Real(0)), lb(cs.size(), Real(0));
+  SolveContext sa = context(a, h, method);
+  sa.reverse = true;
+  const SolveContext sb = context(b, h, method);
+  for (int sweep = 0; sweep < 3; ++sweep) {
+    if constexpr (kGeneric) {
+      project_all_generic<T, true>(std::span<const T>(cs), std::span<Real>(la), sa);
+      project_all_generic<T, true>(std::span<const T>(rev), std::span<Real>(lb), sb);
+    } else {
+      project_all<T, true>(std::span<const T>(cs), std::span<Real>(la), sa);
+      project_all<T, true>(std::span<const T>(rev), std::span<Real>(lb), sb);
+    }
+  }
+  Real moved = 0;
+  for (std::size_t i = 0; i < start.x.size(); ++i) {
+    EXPECT_EQ(a.x[i], b.x[i]) << "particle " << i;
+    moved = std::max(moved, (a.x[i] - start.x[i]).norm());
+  }
+  for (std::size_t k = 0; k < cs.size(); ++k) EXPECT_EQ(la[k], lb[cs.size() - 1 - k]) << "element " << k;
+  // The order matters here (so the test can fail): a forward sweep over cs
+  // ends elsewhere.
+  Cloud f = start;
+  std::vector<Real> lf(cs.size(), Real(0));
+  const SolveContext sf = context(f, h, method);
+  for (int sweep = 0; sweep < 3; ++sweep)
+    project_all<T, true>(std::span<const T>(cs), std::span<Real>(lf), sf);
+  Real order_diff = 0;
+  for (std::size_t i = 0; i < start.x.size(); ++i) order_diff = std::max(order_diff, (f.x[i] - a.x[i]).norm());
+  EXPECT_GT(moved, Real(1e-2));
+  EXPECT_GT(order_diff, Real(1e-4));
+}
+
+TEST(PairDistanceKernel, ReverseSweepIsForwardSweepOverReversedElements) {
+  for (Method m : {Method::xpbd, Method::pbd}) {
+    check_reverse_is_reversed_order<Distance, false>(m);
+    check_reverse_is_reversed_order<Tether, false>(m);
+    check_reverse_is_reversed_order<Distance, true>(m);
+  }
+}
+
 }  // namespace
 }  // namespace xpbd

@@ -152,6 +152,10 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
     //    then `iterations` Gauss-Seidel sweeps over all constraints.
     reset_multipliers(s);
     for (int it = 0; it < cfg.iterations; ++it) {
+      // StepConfig::alternate_sweeps: every other sweep, counted across
+      // substeps (so that one iteration per substep alternates too), runs
+      // last to first.
+      sc.reverse = cfg.alternate_sweeps && ((sub * cfg.iterations + it) & 1) != 0;
       solve_constraints(m, s, sc);
       solve_self_collisions(m, s, sc);
       rigid::solve_attachments(m, s, h);

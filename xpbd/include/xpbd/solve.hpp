@@ -35,7 +35,16 @@ struct SolveContext {
   const Real* inv_mass = nullptr;
   Real h = 0;                // s, substep
   Method method = Method::xpbd;
+  // Visit the elements of each type last to first (StepConfig::alternate_sweeps).
+  bool reverse = false;
 };
+
+namespace detail {
+// Element k of the j-th visit, in the direction sc.reverse selects.
+inline std::size_t visit_index(std::size_t j, std::size_t n, bool reverse) {
+  return reverse ? n - 1 - j : j;
+}
+}  // namespace detail
 
 // Pair-distance constraint types: C = sign * (|x_a - x_b| - rest(c)) with
 // gradients g_a = sign * n, g_b = -sign * n, n = (x_a - x_b)/|x_a - x_b|,
@@ -87,7 +96,9 @@ void project_generic(const T* cs, std::size_t n, Real* lambda, const SolveContex
   const Vec3* const x_prev = sc.x_prev;
   const Real* const inv_mass = sc.inv_mass;
   const EvalContext ectx = sc.eval;
-  for (std::size_t k = 0; k < n; ++k) {
+  const bool reverse = sc.reverse;
+  for (std::size_t j = 0; j < n; ++j) {
+    const std::size_t k = visit_index(j, n, reverse);
     const T& c = cs[k];
     Real C;
     Vec3 g[N];
@@ -152,7 +163,9 @@ void project_pair_distance(const T* cs, std::size_t n, Real* lambda, const Solve
   Vec3* const x = sc.x;
   const Vec3* const x_prev = sc.x_prev;
   const Real* const inv_mass = sc.inv_mass;
-  for (std::size_t k = 0; k < n; ++k) {
+  const bool reverse = sc.reverse;
+  for (std::size_t j = 0; j < n; ++j) {
+    const std::size_t k = visit_index(j, n, reverse);
     const T& c = cs[k];
     const Index a = c.p[0], b = c.p[1];
     const Real rest = P::rest(c);
@@ -218,7 +231,8 @@ void project(const T* cs, std::size_t n, Real* lambda, const SolveContext& sc) {
 
 }  // namespace detail
 
-// Projects every element of `cs` once, in order (Gauss-Seidel), with the
+// Projects every element of `cs` once, in order (Gauss-Seidel; last to first
+// if sc.reverse), with the
 // pair-distance kernel where it applies and the generic one otherwise.
 // `lambda` is parallel to `cs`. kDamped selects the variant that reads
 // x_prev for constraint damping (XPBD only; PBD has no damping).
