@@ -145,8 +145,10 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
     // 1. Move kinematic targets to where they are at the end of this substep.
     interpolate_pin_targets(s, Real(sub + 1) / Real(cfg.substeps));
     // 2. Predict: external forces and inertia; rigid bodies move with their velocity.
-    rigid::begin_substep(m, s);
     predict(m, s, cfg, h);
+    // After predict: restitution's reference is the normal velocity with
+    // this substep's gravity included (Mueller et al. 2020), not before it.
+    rigid::begin_substep(m, s);
     rigid::predict_bodies(s.bodies, h);
     // 3. Solve: lambda starts at zero every substep (Algorithm 2, line 6),
     //    then `iterations` Gauss-Seidel sweeps over all constraints.
