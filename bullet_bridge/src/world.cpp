@@ -3,12 +3,17 @@
 #include <LinearMath/btTransformUtil.h>
 
 #include <algorithm>
+#include <array>
+#include <bit>
+#include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
 #include "xpbd/error.hpp"
 #include "xpbd/rigid_solve.hpp"
+#include "xpbd/spatial_hash.hpp"
 #include "xpbd_bullet/narrowphase.hpp"
 
 namespace xpbd_bullet {
@@ -82,6 +87,193 @@ void collect_features(const btCollisionShape& shape, const btTransform& t, Real 
   }
 }
 
+
+// ---------------------------------------------------------------------------
+// Culling of (particle, body) pairs before the narrowphase.
+//
+// The narrowphase reports a contact for particle i and body b only if the
+// particle's centre comes within reach_i = r_i + thickness + margin + travel_i
+// of b's surface, travel_i = dt (|v_i - v_b| + w_b extent_b) (step_system):
+// query_point() finds nothing farther than reach_i, and a sweep hit lies on
+// the surface within dt |v_i - v_b| <= travel_i of the start point. The
+// particle is tested relative to the body's start pose (moved to its end
+// pose, where the rigid transform keeps distances), and the body's shape at
+// the start pose lies inside its AABB there (Bullet's getAabb, the box the
+// broadphase itself relies on). So a contact needs
+//   dist(x_i, AABB_b) <= reach_i <= half_i + grow_b, with
+//   half_i = r_i + thickness + margin + dt |v_i|  and
+//   grow_b = dt (|v_b| + w_b extent_b)            (|v_i - v_b| <= |v_i| + |v_b|),
+// and then the cube of half size half_i around x_i overlaps AABB_b grown by
+// grow_b (an L-infinity distance never exceeds the Euclidean one). A pair
+// whose boxes are apart is skipped; the others go to the narrowphase as
+// before, in the same order, so the contacts are the same. grow_b also holds
+// a slack of 4 kDegenerateRel relative to the coordinates, for the round-off
+// of the transforms and of the narrowphase's own tolerances (at most
+// kDegenerateRel relative).
+//
+// Finding the overlapping boxes: the candidate boxes go into a uniform grid
+// (hashed cells, as xpbd/spatial_hash.hpp), each into every cell its box
+// grown by grid_reach covers; a particle with half_i <= grid_reach then looks
+// at the one cell of its centre only. grid_reach is twice the mean half_i,
+// so in a scene that moves as a whole every particle is looked up that way;
+// a faster particle, and a candidate box that covers more than kMaxCells
+// cells (a ground plane), is tested against all boxes of the other kind. The
+// cell size is the median side of the grown candidate boxes (any size is
+// correct; this one puts a typical body in about 2 x 2 x 2 cells). Work per
+// step: O(n + candidates + pairs), plus n x (wide candidates) box tests.
+
+constexpr std::int64_t kMaxCells = 512;  // cells one candidate box may cover in the grid
+
+// Axis-aligned box (m, world).
+struct Box {
+  Vec3 lo, hi;
+};
+
+// False only if the cube of half size `half` (m) around c and the box are
+// apart on an axis. A NaN makes every comparison false, so a pair with a NaN
+// is never skipped (query_point then reports the bad input, as without
+// culling).
+bool overlaps(const Vec3& c, Real half, const Box& b) {
+  for (int a = 0; a < 3; ++a)
+    if (c[a] + half < b.lo[a] || c[a] - half > b.hi[a]) return false;
+  return true;
+}
+
+// One broadphase candidate of the current step, as the contact loop uses it.
+struct Candidate {
+  const btCollisionObject* obj = nullptr;
+  btTransform to_end;      // its shadow's end_to_start_frame
+  btTransform end_inv;     // inverse of its end pose
+  Vec3 vb = Vec3::Zero();  // m/s, linear velocity
+  Real wb = 0;             // rad/s, angular speed
+  Real extent = 0;         // m, diagonal of its AABB at the end pose
+  Box box;                 // m, its AABB at the start pose grown by grow_b
+  bool in_grid = false;
+};
+
+struct GridEntry {
+  xpbd::Cell cell;
+  Index candidate = 0;
+};
+
+// Per-system scratch of the contact search, reused across steps: it only
+// grows (std::vector keeps its capacity through clear/assign/resize).
+struct ContactScratch {
+  std::vector<Candidate> candidates;
+  std::vector<Real> half;              // m, per particle: half_i
+  std::vector<Real> sides;             // m, scratch for the median cell size
+  std::vector<GridEntry> entries;      // (cell, candidate) in insertion order
+  std::vector<GridEntry> grid;         // the same, grouped by bucket
+  std::vector<Index> bucket_begin;     // 2^k + 1 offsets into grid
+  std::vector<Index> wide;             // candidates not in the grid
+  std::vector<std::array<Index, 2>> found;  // (candidate, particle), particles increasing
+  std::vector<Index> pair_begin;       // per candidate + 1: offsets into particles
+  std::vector<Index> particles;        // particles of each candidate, increasing
+};
+
+// Fills sc.pair_begin / sc.particles: for every candidate k, the movable
+// particles i, in increasing order, whose cube [x_i - half_i, x_i + half_i]
+// overlaps candidates[k].box. The grid only finds them faster: the result is
+// exactly that box test over all pairs.
+void find_pairs(const std::vector<Vec3>& x, const std::vector<Real>& inv_mass, ContactScratch& sc) {
+  using xpbd::Cell;
+  namespace hd = xpbd::detail;
+  const std::size_t n = x.size();
+  const std::size_t nc = sc.candidates.size();
+
+  // grid_reach: twice the mean half size (finite ones) of the movable particles.
+  Real sum = 0;
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (inv_mass[i] != Real(0) && std::isfinite(sc.half[i])) sum += sc.half[i], ++count;
+  const Real grid_reach = count > 0 ? Real(2) * sum / Real(count) : Real(0);
+
+  // Cell size: the median largest side of the candidate boxes grown by grid_reach.
+  sc.sides.clear();
+  for (const Candidate& c : sc.candidates)
+    if (c.box.lo.allFinite() && c.box.hi.allFinite())
+      sc.sides.push_back((c.box.hi - c.box.lo).maxCoeff() + Real(2) * grid_reach);
+  Real cell = 1;
+  if (!sc.sides.empty()) {
+    const auto mid = sc.sides.begin() + std::ptrdiff_t(sc.sides.size() / 2);
+    std::nth_element(sc.sides.begin(), mid, sc.sides.end());
+    cell = *mid;
+  }
+  if (!(cell > Real(0)) || !std::isfinite(cell)) cell = 1;  // m; any positive size is correct
+  const Real inv_cell = Real(1) / cell;
+
+  // Candidates into the cells of their box grown by grid_reach (plus a
+  // round-off allowance for x_i +- half_i). cell_at is monotone, so a centre
+  // x_i with half_i <= grid_reach whose cube overlaps the box lies in one of
+  // those cells.
+  sc.entries.clear();
+  sc.wide.clear();
+  for (std::size_t k = 0; k < nc; ++k) {
+    Candidate& c = sc.candidates[k];
+    c.in_grid = false;
+    if (c.box.lo.allFinite() && c.box.hi.allFinite()) {
+      const Real scale = std::max(c.box.lo.cwiseAbs().maxCoeff(), c.box.hi.cwiseAbs().maxCoeff());
+      const Real grow =
+          grid_reach + Real(4) * xpbd::kDegenerateRel * (Real(1) + grid_reach + scale);
+      const Cell lo = hd::cell_at(c.box.lo.array() - grow, inv_cell);
+      const Cell hi = hd::cell_at(c.box.hi.array() + grow, inv_cell);
+      // Cells covered, stopping before the product can overflow (each
+      // factor is at most 2^31 + 1).
+      std::int64_t cells = 1;
+      for (int a = 0; a < 3 && cells <= kMaxCells; ++a)
+        cells *= std::int64_t(hi[a]) - std::int64_t(lo[a]) + 1;
+      if (cells <= kMaxCells) {
+        Cell q;
+        for (q[2] = lo[2]; q[2] <= hi[2]; ++q[2])
+          for (q[1] = lo[1]; q[1] <= hi[1]; ++q[1])
+            for (q[0] = lo[0]; q[0] <= hi[0]; ++q[0]) sc.entries.push_back({q, Index(k)});
+        c.in_grid = true;
+      }
+    }
+    if (!c.in_grid) sc.wide.push_back(Index(k));
+  }
+
+  // Hash table of 2^k >= 2 entries buckets, filled by a counting sort.
+  const std::size_t table = std::bit_ceil(std::max<std::size_t>(2 * sc.entries.size(), 1));
+  const auto mask = static_cast<std::uint32_t>(table - 1);
+  sc.bucket_begin.assign(table + 1, 0);
+  for (const GridEntry& e : sc.entries) ++sc.bucket_begin[hd::bucket_of(e.cell, mask) + 1];
+  for (std::size_t b = 0; b < table; ++b) sc.bucket_begin[b + 1] += sc.bucket_begin[b];
+  sc.grid.resize(sc.entries.size());
+  for (const GridEntry& e : sc.entries) sc.grid[std::size_t(sc.bucket_begin[hd::bucket_of(e.cell, mask)]++)] = e;
+  for (std::size_t b = table; b > 0; --b) sc.bucket_begin[b] = sc.bucket_begin[b - 1];
+  sc.bucket_begin[0] = 0;
+
+  // Overlapping pairs, particle by particle in increasing order.
+  sc.found.clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (inv_mass[i] == Real(0)) continue;  // never gets a contact
+    const Vec3& xi = x[i];
+    const Real h = sc.half[i];
+    auto test = [&](Index k) {
+      if (overlaps(xi, h, sc.candidates[std::size_t(k)].box)) sc.found.push_back({k, Index(i)});
+    };
+    if (h <= grid_reach && xi.allFinite()) {  // false for a NaN half size: tested against all
+      const Cell q = hd::cell_at(xi, inv_cell);
+      const std::uint32_t b = hd::bucket_of(q, mask);
+      for (Index e = sc.bucket_begin[b]; e < sc.bucket_begin[b + 1]; ++e)
+        if (hd::same_cell(sc.grid[std::size_t(e)].cell, q)) test(sc.grid[std::size_t(e)].candidate);
+      for (Index k : sc.wide) test(k);
+    } else {
+      for (std::size_t k = 0; k < nc; ++k) test(Index(k));
+    }
+  }
+
+  // Grouped by candidate (a stable counting sort keeps the particles increasing).
+  sc.pair_begin.assign(nc + 1, 0);
+  for (const auto& f : sc.found) ++sc.pair_begin[std::size_t(f[0]) + 1];
+  for (std::size_t k = 0; k < nc; ++k) sc.pair_begin[k + 1] += sc.pair_begin[k];
+  sc.particles.resize(sc.found.size());
+  for (const auto& f : sc.found) sc.particles[std::size_t(sc.pair_begin[std::size_t(f[0])]++)] = f[1];
+  for (std::size_t k = nc; k > 0; --k) sc.pair_begin[k] = sc.pair_begin[k - 1];
+  sc.pair_begin[0] = 0;
+}
+
 }  // namespace
 
 // One rigid body touched during the current internal step: its Bullet state
@@ -106,6 +298,7 @@ struct XpbdWorld::System {
   SystemSettings settings;
   std::vector<int> shadow_of_body;  // per State::bodies entry: index into shadows_
   std::vector<xpbd::RigidBody> free_bodies;  // scratch: bodies moved without contacts
+  ContactScratch contact;                    // scratch of the contact search
 };
 
 struct XpbdWorld::Attachment {
@@ -348,6 +541,7 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
 
   // Contacts: candidates over the AABB of the particles swept over the step.
   if (cs.enabled && n > 0) {
+    const auto t0 = std::chrono::steady_clock::now();
     Vec3 lo = Vec3::Constant(std::numeric_limits<Real>::max());
     Vec3 hi = -lo;
     Real rmax = 0;
@@ -363,22 +557,61 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
     candidates(world_, lo, hi, candidates_, cs.filter_group, cs.filter_mask);
     stats_.candidates += static_cast<int>(candidates_.size());
 
+    // What the contact loop needs of each candidate (copied: shadow_for()
+    // may grow shadows_), and its culling box: the AABB at the start pose
+    // grown by grow_b (see "Culling of (particle, body) pairs" above). The
+    // shadows are created in candidate order.
+    ContactScratch& sc = s.contact;
+    const Real system_scale = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
+    sc.candidates.clear();
     for (const btCollisionObject* obj : candidates_) {
       const int shi = shadow_for(obj, dt);
-      // Copy what is needed: shadow_for() may grow shadows_ below.
-      const btTransform to_end = shadows_[shi].end_to_start_frame;
-      const btTransform end_inv = shadows_[shi].end.inverse();
-      const Vec3 vb = shadows_[shi].v;
-      const Real wb = shadows_[shi].w.norm();
+      const Shadow& sh = shadows_[shi];
+      Candidate c;
+      c.obj = obj;
+      c.to_end = sh.end_to_start_frame;
+      c.end_inv = sh.end.inverse();
+      c.vb = sh.v;
+      c.wb = sh.w.norm();
       btVector3 amin, amax;
-      obj->getCollisionShape()->getAabb(shadows_[shi].end, amin, amax);
-      const Real extent = (to_vec(amax) - to_vec(amin)).norm();
+      obj->getCollisionShape()->getAabb(sh.end, amin, amax);
+      c.extent = (to_vec(amax) - to_vec(amin)).norm();
+      obj->getCollisionShape()->getAabb(sh.start, amin, amax);
+      c.box = {to_vec(amin), to_vec(amax)};
+      const Real coords =
+          std::max({c.box.lo.cwiseAbs().maxCoeff(), c.box.hi.cwiseAbs().maxCoeff(), system_scale});
+      const Real grow = dt * (c.vb.norm() + c.wb * c.extent) +
+                        Real(4) * xpbd::kDegenerateRel * (Real(1) + coords + c.extent);
+      c.box.lo.array() -= grow;
+      c.box.hi.array() += grow;
+      sc.candidates.push_back(c);
+    }
+    if (cs.cull) {
+      sc.half.resize(std::size_t(n));
+      for (Index i = 0; i < n; ++i)
+        sc.half[std::size_t(i)] = m.radius[i] + cs.thickness + cs.margin + dt * st.v[i].norm();
+      find_pairs(st.x, m.inv_mass, sc);
+    }
+
+    for (std::size_t k = 0; k < sc.candidates.size(); ++k) {
+      // Local copies: the loop below writes to st.contacts and shadows_.
+      const Candidate& cand = sc.candidates[k];
+      const btCollisionObject* obj = cand.obj;
+      const btTransform to_end = cand.to_end;
+      const btTransform end_inv = cand.end_inv;
+      const Vec3 vb = cand.vb;
+      const Real wb = cand.wb, extent = cand.extent;
       const Real mu_s = cs.static_friction * obj->getFriction();
       const Real mu_d = cs.dynamic_friction * obj->getFriction();
       const Real e = cs.restitution * obj->getRestitution();
       Index body = -1;
-      for (Index i = 0; i < n; ++i) {
-        if (m.inv_mass[i] == Real(0)) continue;
+      // The culled pairs of this candidate, or every particle.
+      const Index* const listed = sc.particles.data() + (cs.cull ? sc.pair_begin[k] : 0);
+      const Index count = cs.cull ? sc.pair_begin[k + 1] - sc.pair_begin[k] : n;
+      for (Index j = 0; j < count; ++j) {
+        const Index i = cs.cull ? listed[j] : j;
+        if (m.inv_mass[i] == Real(0)) continue;  // never in a culled list
+        ++stats_.queries;
         const Real thick = m.radius[i] + cs.thickness;
         // The particle's position relative to the body at the start of the
         // step, expressed at the body's end pose (where Bullet's shape is).
@@ -411,6 +644,7 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
     }
     stats_.contacts += static_cast<int>(st.contacts.size());
     if (!m.collision_triangles.empty()) find_triangle_contacts(s, dt, lo, hi);
+    stats_.contact_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
 
   // Bodies moved without any contact: the reference the changes are taken from.
@@ -420,6 +654,7 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
   cfg.iterations = set.iterations;
   cfg.method = set.method;
   cfg.drag = set.drag;
+  cfg.alternate_sweeps = set.alternate_sweeps;
   cfg.gravity = to_vec(world_.getGravity());
   s.free_bodies = st.bodies;
   const Real h = dt / Real(set.substeps);

@@ -5,9 +5,11 @@
 // spheres (radius 7 cm) and boxes (half extent 6 cm) alternating, their
 // centres at y = 0.1 m, in a btDiscreteDynamicsWorld with a DBVT broadphase.
 // The cloth is dropped from y = 0.35 m and warmed up for 45 steps (0.75 s at
-// 60 Hz), so that it lies on the bodies; that State is the snapshot, and
-// every timed call starts from it (DESIGN.md principle 7). The bodies are
-// static, so nothing else in the Bullet world changes between calls.
+// 60 Hz), so that it lies on the bodies; that State, without the contacts of
+// the last warm-up step, is the snapshot, and every timed call starts from
+// it (DESIGN.md principle 7). The summary prints the fastest particle's
+// speed in it, as a check that the cloth lies still. The bodies are static,
+// so nothing else in the Bullet world changes between calls.
 //
 // Benchmarks (each reports ns_per_particle_step = time / 4096 particles):
 //   xpbd_step/no_contacts    one xpbd::step() of the cloth (10 substeps,
@@ -16,19 +18,31 @@
 //   xpbd_step/with_contacts  the same step with the contacts (and body
 //                            shadows) the bridge generated from the snapshot:
 //                            the cost of solving them;
-//   bridge_step              XpbdWorld::updateAction, i.e. what Bullet runs
-//                            per internal step: broadphase candidates,
-//                            particle-body queries, the step, the coupling;
-//   contact_generation       bridge_step minus xpbd_step/with_contacts
-//                            (medians), printed in the summary.
-// The summary prints every value as ns per particle per step and as a ratio
-// to xpbd_step/no_contacts measured in the same run.
+//   bridge_step/brute_force  XpbdWorld::updateAction, i.e. what Bullet runs
+//                            per internal step (broadphase candidates,
+//                            particle-body queries, the step, the coupling),
+//                            with ContactSettings::cull = false: every
+//                            (particle, candidate) pair is queried, as before
+//                            the culling existed;
+//   bridge_step/culled       the same with cull = true (the default);
+//   contact_generation/...   the time updateAction spends finding the
+//                            contacts (XpbdWorld measures it around that
+//                            code: StepStats::contact_seconds, wall clock),
+//                            and as a cross-check bridge_step/... minus
+//                            xpbd_step/with_contacts (medians), printed in
+//                            the summary.
+// Before timing, the program runs one bridge step from the snapshot in each
+// mode and checks that both produce the same contacts (every field, in the
+// same order) and the same body shadows; it exits with status 1 if not.
+// The timed sections are measured in CPU time of the benchmark's thread
+// (see thread_seconds). The summary prints every value as ns per particle
+// per step and as a ratio to xpbd_step/no_contacts measured in the same run.
 #include <benchmark/benchmark.h>
 #include <btBulletDynamicsCommon.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
+#include <ctime>
 #include <map>
 #include <memory>
 #include <string>
@@ -40,7 +54,14 @@
 namespace {
 
 using namespace xpbd;
-using Clock = std::chrono::steady_clock;
+// The timed section is measured in CPU time of this thread, not wall time:
+// the machine these numbers come from is shared with other builds, and a
+// preempted step would otherwise count the other processes' time too.
+double thread_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
 
 constexpr int kGrid = 64;
 constexpr int kBodiesPerSide = 10;  // 100 bodies
@@ -61,7 +82,9 @@ struct Scene {
   std::shared_ptr<const Model> model;
   State snapshot;       // cloth after the warm-up
   State with_contacts;  // snapshot + the bodies and contacts of one bridge step from it
-  int candidates = 0, contacts = 0;
+  xpbd_bullet::StepStats culled, brute;  // stats of one bridge step from the snapshot, per mode
+  bool same_contacts = false;            // both modes gave the same contacts and shadows
+  Real vmax = 0;                         // m/s, fastest particle of the snapshot
 
   Scene() {
     world.setGravity(btVector3(0, Real(-9.81), 0));
@@ -99,15 +122,54 @@ struct Scene {
     id = xw->add_system(model, make_state(*model), set);
     for (int i = 0; i < kWarmupSteps; ++i) world.stepSimulation(kDt, 1, kDt);
     snapshot = xw->state(id);
-    // One bridge step from the snapshot: its contacts and body shadows.
-    xw->updateAction(&world, kDt);
-    candidates = xw->last_stats().candidates;
-    contacts = xw->last_stats().contacts;
+    // The State still holds the last warm-up step's contacts and body
+    // shadows: without them it is the contact-free reference (a bridge step
+    // rebuilds them from scratch anyway).
+    snapshot.bodies.clear();
+    snapshot.contacts.clear();
+    snapshot.attachments.clear();
+    snapshot.triangle_contacts.clear();
+    for (const Vec3& v : snapshot.v) vmax = std::max(vmax, v.norm());
+
+    // One bridge step from the snapshot in each mode: their contacts, body
+    // shadows and stats.
+    auto bridge_step = [&](bool cull, xpbd_bullet::StepStats& stats) {
+      xw->state(id) = snapshot;
+      xw->settings(id).contacts.cull = cull;
+      xw->updateAction(&world, kDt);
+      stats = xw->last_stats();
+      State out = xw->state(id);
+      xw->state(id) = snapshot;
+      return out;
+    };
+    const State a = bridge_step(true, culled);
+    const State b = bridge_step(false, brute);
+    same_contacts = equal_contacts(a, b) && culled.shadows == brute.shadows &&
+                    culled.contacts == brute.contacts && culled.candidates == brute.candidates;
+    xw->settings(id).contacts.cull = true;
     with_contacts = snapshot;
-    with_contacts.bodies = xw->state(id).bodies;
-    with_contacts.contacts = xw->state(id).contacts;
-    with_contacts.attachments = xw->state(id).attachments;
-    xw->state(id) = snapshot;
+    with_contacts.bodies = a.bodies;
+    with_contacts.contacts = a.contacts;
+    with_contacts.attachments = a.attachments;
+  }
+
+  // Field by field, exactly: both modes run the same narrowphase on the same
+  // inputs, so any difference is a pair the culling dropped (or added).
+  static bool equal_contacts(const State& a, const State& b) {
+    if (a.contacts.size() != b.contacts.size() || a.bodies.size() != b.bodies.size()) return false;
+    for (std::size_t k = 0; k < a.contacts.size(); ++k) {
+      const BodyContact &p = a.contacts[k], &q = b.contacts[k];
+      if (p.particle != q.particle || p.body != q.body || p.r != q.r || p.n != q.n ||
+          p.thickness != q.thickness || p.static_friction != q.static_friction ||
+          p.dynamic_friction != q.dynamic_friction || p.restitution != q.restitution ||
+          p.compliance != q.compliance)
+        return false;
+    }
+    for (std::size_t k = 0; k < a.bodies.size(); ++k)
+      if (a.bodies[k].x != b.bodies[k].x || a.bodies[k].q.coeffs() != b.bodies[k].q.coeffs() ||
+          a.bodies[k].v != b.bodies[k].v || a.bodies[k].w != b.bodies[k].w)
+        return false;
+    return true;
   }
 
   ~Scene() {
@@ -135,8 +197,8 @@ void finish(benchmark::State& bs, double ns) {
   const double n = double(s.model->num_particles());
   bs.counters["ns_per_particle_step"] = ns / (n * double(bs.iterations()));
   bs.counters["ms_per_step"] = ns * 1e-6 / double(bs.iterations());
-  bs.counters["contacts"] = s.contacts;
-  bs.counters["candidates"] = s.candidates;
+  bs.counters["contacts"] = s.culled.contacts;
+  bs.counters["candidates"] = s.culled.candidates;
 }
 
 // xpbd::step() alone, from `start` (restored, untimed, before every call).
@@ -148,36 +210,44 @@ void BM_xpbd_step(benchmark::State& bs, bool contacts) {
   double ns = 0;
   for (auto _ : bs) {
     st = start;
-    const auto t0 = Clock::now();
+    const double t0 = thread_seconds();
     step(*s.model, st, cfg);
     benchmark::ClobberMemory();
-    const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
+    const double dt = thread_seconds() - t0;
     bs.SetIterationTime(dt);
     ns += dt * 1e9;
   }
   finish(bs, ns);
 }
 
-// XpbdWorld::updateAction: what Bullet calls once per internal step.
-void BM_bridge_step(benchmark::State& bs) {
+// XpbdWorld::updateAction: what Bullet calls once per internal step, with
+// ContactSettings::cull on or off. Also reports the contact generation time
+// XpbdWorld measures itself (StepStats::contact_seconds, wall clock).
+void BM_bridge_step(benchmark::State& bs, bool cull) {
   Scene& s = scene();
-  double ns = 0;
+  s.xw->settings(s.id).contacts.cull = cull;
+  double ns = 0, generation = 0;
   for (auto _ : bs) {
     s.xw->state(s.id) = s.snapshot;  // restore (untimed): same sizes, no allocation
-    const auto t0 = Clock::now();
+    const double t0 = thread_seconds();
     s.xw->updateAction(&s.world, kDt);
     benchmark::ClobberMemory();
-    const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
+    const double dt = thread_seconds() - t0;
     bs.SetIterationTime(dt);
     ns += dt * 1e9;
+    generation += s.xw->last_stats().contact_seconds * 1e9;
   }
   s.xw->state(s.id) = s.snapshot;
+  s.xw->settings(s.id).contacts.cull = true;
   finish(bs, ns);
+  bs.counters["queries"] = cull ? s.culled.queries : s.brute.queries;
+  bs.counters["generation_ns_per_particle_step"] =
+      generation / (double(s.model->num_particles()) * double(bs.iterations()));
 }
 
 // Console output as usual, plus a summary in ns per particle per step
-// (median of repetitions when asked for), the derived contact generation
-// cost, and the ratio of each to the contact-free xpbd::step of this run.
+// (median of repetitions when asked for), the contact generation cost, and
+// the ratio of each to the contact-free xpbd::step of this run.
 class SummaryReporter : public benchmark::ConsoleReporter {
  public:
   void ReportRuns(const std::vector<Run>& runs) override {
@@ -188,37 +258,54 @@ class SummaryReporter : public benchmark::ConsoleReporter {
       const bool median = r.run_type == Run::RT_Aggregate && r.aggregate_name == "median";
       if (r.run_type == Run::RT_Aggregate && !median) continue;
       Entry& e = results_[r.run_name.function_name];
-      if (median || !e.median) e = Entry{it->second.value, median};
+      if (median || !e.median) {
+        const auto g = r.counters.find("generation_ns_per_particle_step");
+        e = Entry{it->second.value, g == r.counters.end() ? -1.0 : g->second.value, median};
+      }
     }
     ConsoleReporter::ReportRuns(runs);
   }
 
   void summary() const {
-    const auto get = [&](const char* n) {
+    const auto get = [&](const char* n, bool generation = false) {
       const auto it = results_.find(n);
-      return it == results_.end() ? -1.0 : it->second.value;
+      if (it == results_.end()) return -1.0;
+      return generation ? it->second.generation : it->second.value;
     };
     const double ref = get("xpbd_step/no_contacts");
     const double with = get("xpbd_step/with_contacts");
-    const double bridge = get("bridge_step");
-    if (ref <= 0 || with <= 0 || bridge <= 0) return;
+    const double brute = get("bridge_step/brute_force");
+    const double culled = get("bridge_step/culled");
+    if (ref <= 0 || with <= 0) return;
     const Scene& s = scene();
-    std::printf("\n64 x 64 cloth over 100 static bodies: %d candidates, %d contacts per step\n"
-                "ns per particle per step and ratio to xpbd_step/no_contacts (same run)\n",
-                s.candidates, s.contacts);
+    std::printf("\n64 x 64 cloth over 100 static bodies (fastest particle of the snapshot: %.2f m/s)\n"
+                "  %d candidates, %d contacts per step; narrowphase queries: %d brute force, %d culled\n"
+                "ns per particle per step (medians) and ratio to xpbd_step/no_contacts (same run)\n",
+                double(s.vmax), s.culled.candidates, s.culled.contacts, s.brute.queries, s.culled.queries);
     const auto row = [&](const char* n, double v) {
-      std::printf("%-36s %10.1f %8.2f\n", n, v, v / ref);
+      std::printf("%-58s %10.1f %8.3f\n", n, v, v / ref);
     };
     row("xpbd_step/no_contacts", ref);
     row("xpbd_step/with_contacts", with);
-    row("bridge_step", bridge);
-    row("contact_generation (bridge - with)", bridge - with);
     row("contact_solve (with - no_contacts)", with - ref);
+    if (brute > 0) row("bridge_step/brute_force", brute);
+    if (culled > 0) row("bridge_step/culled", culled);
+    // Measured inside updateAction, around the contact search only.
+    const double gen_brute = get("bridge_step/brute_force", true);
+    const double gen_culled = get("bridge_step/culled", true);
+    if (gen_brute > 0) row("contact_generation/brute_force (timed, wall)", gen_brute);
+    if (gen_culled > 0) row("contact_generation/culled (timed, wall)", gen_culled);
+    // Cross-check: the difference of two whole steps (noisy when small).
+    if (brute > 0) row("contact_generation/brute_force (bridge - with)", brute - with);
+    if (culled > 0) row("contact_generation/culled (bridge - with)", culled - with);
+    if (gen_brute > 0 && gen_culled > 0)
+      std::printf("contact generation (timed), brute force / culled: %.1f\n", gen_brute / gen_culled);
   }
 
  private:
   struct Entry {
-    double value = 0;
+    double value = 0;        // ns per particle per step, thread CPU time
+    double generation = -1;  // ns per particle per step spent finding contacts (wall), or -1
     bool median = false;
   };
   std::map<std::string, Entry> results_;
@@ -229,13 +316,28 @@ class SummaryReporter : public benchmark::ConsoleReporter {
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+
+  const Scene& s = scene();
+  std::printf("contacts from the snapshot: %d culled, %d brute force (%d and %d narrowphase queries)\n",
+              s.culled.contacts, s.brute.contacts, s.culled.queries, s.brute.queries);
+  if (!s.same_contacts) {
+    std::fprintf(stderr, "bench_contacts: the culled contacts differ from the brute-force ones\n");
+    return 1;
+  }
+  std::printf("contact sets identical (every field, same order)\n");
+
   benchmark::RegisterBenchmark("xpbd_step/no_contacts", BM_xpbd_step, false)
       ->UseManualTime()
       ->Unit(benchmark::kMillisecond);
   benchmark::RegisterBenchmark("xpbd_step/with_contacts", BM_xpbd_step, true)
       ->UseManualTime()
       ->Unit(benchmark::kMillisecond);
-  benchmark::RegisterBenchmark("bridge_step", BM_bridge_step)->UseManualTime()->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("bridge_step/brute_force", BM_bridge_step, false)
+      ->UseManualTime()
+      ->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("bridge_step/culled", BM_bridge_step, true)
+      ->UseManualTime()
+      ->Unit(benchmark::kMillisecond);
   SummaryReporter reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);
   reporter.summary();
