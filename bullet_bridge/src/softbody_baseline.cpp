@@ -13,6 +13,7 @@
 #include "xpbd/compile.hpp"
 #include "xpbd/error.hpp"
 #include "xpbd/model.hpp"
+#include "xpbd_bullet/softbody_builder.hpp"
 
 namespace xpbd_bullet {
 
@@ -50,29 +51,6 @@ void validate(const SoftBodyBaselineConfig& c) {
     fail("friction", "must be in [0, 1], got " + num(c.friction));
 }
 
-// Rejects the scene elements a plain btSoftBody cannot represent.
-void check_representable(const xpbd::SceneDesc& s) {
-  if (!s.collisions.empty())
-    throw xpbd::SceneError("collisions[0]: the btSoftBody baseline has no particle-particle "
-                           "collisions (scene has " + std::to_string(s.collisions.size()) + ")");
-  if (!s.planes.empty())
-    throw xpbd::SceneError("planes[0]: the btSoftBody baseline has no planes (scene has " +
-                           std::to_string(s.planes.size()) + ")");
-  for (std::size_t k = 0; k < s.pins.size(); ++k) {
-    const auto& p = s.pins[k];
-    const std::string w = "pins[" + std::to_string(k) + "]";
-    // compile() has already checked the index.
-    const Real m = s.masses[static_cast<std::size_t>(p.particle)];
-    if (m != Real(0))
-      throw xpbd::SceneError(w + ".particle: the btSoftBody baseline supports only kinematic pins "
-                             "(mass 0); particle " + std::to_string(p.particle) + " has mass " +
-                             num(m) + " kg");
-    if (p.target && *p.target != s.positions[static_cast<std::size_t>(p.particle)])
-      throw xpbd::SceneError(w + ".target: the btSoftBody baseline supports only pins at the "
-                             "particle's initial position");
-  }
-}
-
 }  // namespace
 
 // Members are declared in construction order; they are destroyed in reverse:
@@ -99,7 +77,6 @@ SoftBodyBaseline::SoftBodyBaseline(const xpbd::SceneDesc& scene, const SoftBodyB
     : impl_(std::make_unique<Impl>()) {
   validate(cfg);
   const xpbd::Model model = xpbd::compile(scene);  // validates the scene, gives the rest lengths
-  check_representable(scene);
 
   Impl& m = *impl_;
   m.cfg = cfg;
@@ -118,58 +95,15 @@ SoftBodyBaseline::SoftBodyBaseline(const xpbd::SceneDesc& scene, const SoftBodyB
   info.air_density = 0;  // no medium (aerodynamics are off anyway: kLF = kDG = 0)
   info.water_density = 0;
 
-  // Nodes: positions, then masses node by node (never setTotalMass).
-  const int n = scene.num_particles();
-  std::vector<btVector3> x(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) x[static_cast<std::size_t>(i)] = bt(scene.positions[static_cast<std::size_t>(i)]);
-  m.body = std::make_unique<btSoftBody>(&info, n, n > 0 ? x.data() : nullptr, nullptr);
-  btSoftBody& b = *m.body;
-  for (int i = 0; i < n; ++i) b.setMass(i, scene.masses[static_cast<std::size_t>(i)]);
-  // Initial velocities; pinned (kinematic, pinned in place) nodes stay at rest,
-  // as xpbd holds them on their pin target.
-  std::vector<char> pinned(static_cast<std::size_t>(n), 0);
-  for (const auto& p : scene.pins) pinned[static_cast<std::size_t>(p.particle)] = 1;
-  for (int i = 0; i < n; ++i) {
-    const auto ui = static_cast<std::size_t>(i);
-    b.m_nodes[i].m_v = pinned[ui] ? btVector3(0, 0, 0) : bt(model.v0[ui]);
-  }
-
-  // Material 0 (created by the constructor) is shared by every link.
-  b.m_materials[0]->m_kLST = cfg.kLST;
-
-  // Links: one per distance constraint, same order, same particles.
-  const auto& dist = model.get<xpbd::Distance>();
-  for (const auto& d : dist) b.appendLink(d.p[0], d.p[1], nullptr, false);
-
-  // Solver configuration (DESIGN.md section 5).
-  btSoftBody::Config& c = b.m_cfg;
-  c.piterations = cfg.piterations;
-  c.viterations = 0;  // no velocity solver
-  c.diterations = 0;  // no drift solver
-  c.kDP = 0;          // no damping (xpbd runs with zero damping)
-  c.kDG = 0;          // no drag
-  c.kLF = 0;          // no lift
-  c.kPR = 0;          // no pressure
-  c.kVC = 0;          // no volume conservation
-  c.kMT = 0;          // no pose matching
-  c.kCHR = 1;         // rigid contact hardness
-  c.kKHR = 1;         // kinetic contact hardness
-  c.kDF = cfg.friction;
-  c.timescale = 1;
-  b.getCollisionShape()->setMargin(cfg.margin);
-
-  // Runtime constants now, as predictMotion would on the first step (it resets
-  // every rest length to the current node distance and computes the link
-  // constants from kLST and the inverse masses); then the scene's rest lengths.
-  b.updateConstants();
-  for (std::size_t k = 0; k < dist.size(); ++k) {
-    btSoftBody::Link& l = b.m_links[static_cast<int>(k)];
-    l.m_rl = dist[k].rest;
-    l.m_c1 = l.m_rl * l.m_rl;
-  }
-  b.m_bUpdateRtCst = false;
-
-  b.setActivationState(DISABLE_DEACTIVATION);  // sleeping off
+  // The soft body under the fairness rules (softbody_builder.hpp); it rejects
+  // the elements a btSoftBody cannot express.
+  SoftBodyBuildConfig bc;
+  bc.piterations = cfg.piterations;
+  bc.kLST = cfg.kLST;
+  bc.kDP = 0;
+  bc.margin = cfg.margin;
+  bc.friction = cfg.friction;
+  m.body = build_softbody(info, scene, model, bc);
   m.world->addSoftBody(m.body.get());
 }
 

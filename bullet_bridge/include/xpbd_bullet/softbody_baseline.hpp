@@ -21,10 +21,13 @@
 //     no pressure/volume/pose matching, sleeping off (DISABLE_DEACTIVATION);
 //   - precision: the bridge links the Bullet build whose btScalar is xpbd::Real.
 //
-// Not representable (rejected with xpbd::SceneError): particle-particle
-// collisions, planes, pins on particles of non-zero mass (btSoftBody has no
-// compliant pin without a rigid anchor), and pins whose target differs from the
-// particle's initial position. Particle radii are ignored (no contacts here).
+// The soft body itself is built by build_softbody (softbody_builder.hpp).
+// Not representable (rejected with xpbd::SceneError, the list is
+// softbody_unsupported): particle-particle collisions, planes, penetration,
+// dihedral/isometric bending, tet volumes, tethers, global volumes, pins on
+// particles of non-zero mass (btSoftBody has no compliant pin without a rigid
+// anchor), and pins whose target differs from the particle's initial
+// position. Particle radii are ignored (no contacts here).
 #include <memory>
 #include <vector>
 
