@@ -40,6 +40,8 @@ struct SolverSpec {
   int iterations = 1;   // Gauss-Seidel sweeps per substep (>= 1)
   int frames = 180;     // frames to run (>= 1)
   xpbd::Real drag = 0;  // 1/s, velocity damping rate (>= 0)
+  // Symmetric Gauss-Seidel (xpbd::StepConfig::alternate_sweeps).
+  bool alternate_sweeps = false;
   xpbd::Vec3 gravity{xpbd::Real(0), xpbd::Real(-9.81), xpbd::Real(0)};  // m/s^2, world gravity
   // btSoftBody (--solver bullet) at the matched budget: `substeps` internal
   // steps of dt/substeps per frame, each with `iterations` position
@@ -94,7 +96,7 @@ struct ShapeSpec {
   xpbd::Real radius = xpbd::Real(0.5);            // m: sphere, capsule, cylinder
   xpbd::Real height = 1;                          // m: capsule (between cap centres), cylinder (total); along the local y axis
   xpbd::Vec3 half_extents = xpbd::Vec3::Constant(xpbd::Real(0.5));  // m: box
-  xpbd::Vec3 normal = xpbd::Vec3::UnitY();        // plane: { x : n.x = offset } in the body frame
+  xpbd::Vec3 normal = xpbd::Vec3::UnitY();        // plane: { x : n.x/|n| = offset } in the body frame
   xpbd::Real offset = 0;                          // m: plane
   std::vector<xpbd::Vec3> points;                 // m: convex hull vertices (body frame)
   // Static triangle mesh: either a file (OBJ, relative to the scene file) or
@@ -118,6 +120,10 @@ struct RigidSpec {
   xpbd::Vec3 angular_velocity = xpbd::Vec3::Zero();  // rad/s
   xpbd::Real friction = xpbd::Real(0.5);          // >= 0, Bullet's btCollisionObject friction
   xpbd::Real restitution = 0;                     // in [0, 1]
+  // Bullet's btRigidBody::setDamping, each in [0, 1]: the velocity is
+  // multiplied by (1 - damping)^t per t seconds.
+  xpbd::Real linear_damping = 0;
+  xpbd::Real angular_damping = 0;
   bool kinematic = false;                         // moved by its velocity, not by forces (mass ignored)
 };
 
