@@ -1,0 +1,702 @@
+#include "demos/scene_runner.hpp"
+
+#include <BulletSoftBody/btSoftBody.h>
+#include <BulletSoftBody/btSoftRigidDynamicsWorld.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <numeric>
+#include <sstream>
+#include <stdexcept>
+#include <type_traits>
+
+#include "xpbd/compile.hpp"
+#include "xpbd/error.hpp"
+#include "xpbd/model.hpp"
+#include "xpbd/spatial_hash.hpp"
+#include "xpbd/state.hpp"
+#include "xpbd_bullet/narrowphase.hpp"
+#include "xpbd_bullet/softbody_builder.hpp"
+#include "xpbd_bullet/world.hpp"
+
+namespace xpbd_demos {
+namespace {
+
+using xpbd::Index;
+using xpbd::Real;
+using xpbd::Vec3;
+using Clock = std::chrono::steady_clock;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::string num(double v) {
+  std::ostringstream o;
+  o.precision(9);
+  o << v;
+  return o.str();
+}
+
+btVector3 bt(const Vec3& v) { return btVector3(v.x(), v.y(), v.z()); }
+Vec3 vec(const btVector3& v) { return Vec3(v.x(), v.y(), v.z()); }
+
+bool all_finite(std::span<const Vec3> a) {
+  for (const Vec3& v : a)
+    if (!v.allFinite()) return false;
+  return true;
+}
+
+// ---------------------------------------------------------------------------
+// Input checks
+
+void validate_options(const RunOptions& o, const SceneSpec& spec) {
+  auto fail = [](const std::string& field, const std::string& what) {
+    throw xpbd::ConfigError("solver." + field + ": " + what);
+  };
+  if (!(o.dt > Real(0)) || !std::isfinite(o.dt)) fail("dt", "must be finite and > 0, got " + num(o.dt));
+  if (o.substeps < 1) fail("substeps", "must be >= 1, got " + std::to_string(o.substeps));
+  if (o.iterations < 1) fail("iterations", "must be >= 1, got " + std::to_string(o.iterations));
+  if (o.frames < 1) fail("frames", "must be >= 1, got " + std::to_string(o.frames));
+  if (!(o.bullet_sdf_voxel >= Real(0)) || !std::isfinite(o.bullet_sdf_voxel))
+    fail("bullet_sdf_voxel", "must be finite and >= 0 (0 = automatic), got " + num(o.bullet_sdf_voxel));
+  const SolverSpec& s = spec.solver;
+  if (!(s.drag >= Real(0)) || !std::isfinite(s.drag))
+    fail("drag", "must be finite and >= 0, got " + num(s.drag));
+  if (!s.gravity.allFinite()) fail("gravity", "must be finite");
+  if (!(s.bullet_kLST > Real(0) && s.bullet_kLST <= Real(1)))
+    fail("bullet_kLST", "must be in (0, 1], got " + num(s.bullet_kLST));
+}
+
+void validate_contacts(const SoftContactSpec& c) {
+  auto fail = [](const std::string& field, const std::string& what) {
+    throw xpbd::SceneError("soft.contacts." + field + ": " + what);
+  };
+  auto nonneg = [&](const char* field, Real v) {
+    if (!(v >= Real(0)) || !std::isfinite(v)) fail(field, "must be finite and >= 0, got " + num(v));
+  };
+  nonneg("thickness", c.thickness);
+  nonneg("margin", c.margin);
+  nonneg("static_friction", c.static_friction);
+  nonneg("dynamic_friction", c.dynamic_friction);
+  nonneg("compliance", c.compliance);
+  if (c.dynamic_friction > c.static_friction)
+    fail("dynamic_friction", "must be <= static_friction (" + num(c.static_friction) + "), got " +
+                                 num(c.dynamic_friction));
+  if (!(c.restitution >= Real(0) && c.restitution <= Real(1)))
+    fail("restitution", "must be in [0, 1], got " + num(c.restitution));
+  if (!(c.feature_spacing > Real(0)) || !std::isfinite(c.feature_spacing))
+    fail("feature_spacing", "must be finite and > 0, got " + num(c.feature_spacing));
+}
+
+void validate_attachments(const SceneSpec& spec, Index particles) {
+  const int nb = static_cast<int>(spec.bodies.size());
+  for (std::size_t k = 0; k < spec.attachments.size(); ++k) {
+    const AttachmentSpec& a = spec.attachments[k];
+    const std::string at = "attachments[" + std::to_string(k) + "].";
+    if (a.particle < 0 || a.particle >= particles)
+      throw xpbd::SceneError(at + "particle: index " + std::to_string(a.particle) + " out of range [0, " +
+                             std::to_string(particles) + ")");
+    if (a.body < 0 || a.body >= nb)
+      throw xpbd::SceneError(at + "body: index " + std::to_string(a.body) + " out of range [0, " +
+                             std::to_string(nb) + ")");
+    if (a.local && !a.local->allFinite()) throw xpbd::SceneError(at + "local: must be finite");
+    if (!(a.compliance >= Real(0)) || !std::isfinite(a.compliance))
+      throw xpbd::SceneError(at + "compliance: must be finite and >= 0, got " + num(a.compliance));
+  }
+}
+
+// The attachment point in the body's centre-of-mass frame (m).
+btVector3 attachment_local(const AttachmentSpec& a, const btRigidBody& body, const Vec3& x0) {
+  if (a.local) return bt(*a.local);
+  return body.getCenterOfMassTransform().inverse() * bt(x0);
+}
+
+// Radius shared by all movable particles, or nullopt if they differ.
+std::optional<Real> uniform_radius(const xpbd::SceneDesc& s) {
+  std::optional<Real> r;
+  for (std::size_t i = 0; i < s.positions.size(); ++i) {
+    if (s.masses[i] == Real(0)) continue;
+    const Real ri = s.radii.empty() ? Real(0) : s.radii[i];
+    if (!r) r = ri;
+    else if (*r != ri) return std::nullopt;
+  }
+  return r ? r : Real(0);
+}
+
+// All the reasons btSoftBody cannot run the scene.
+std::vector<std::string> bullet_limitations(const SceneSpec& spec, const xpbd::SceneDesc& scene) {
+  std::vector<std::string> why = xpbd_bullet::softbody_unsupported(scene);
+  const SoftContactSpec& c = spec.soft.contacts;
+  if (!spec.bodies.empty()) {
+    if (c.restitution != Real(0))
+      why.push_back("soft.contacts.restitution: btSoftBody contacts have no restitution, got " +
+                    num(c.restitution));
+    if (c.compliance != Real(0))
+      why.push_back("soft.contacts.compliance: btSoftBody contacts have no compliance (only a "
+                    "hardness), got " + num(c.compliance) + " m/N");
+    if (c.dynamic_friction > Real(1))
+      why.push_back("soft.contacts.dynamic_friction: btSoftBody's kDF must be in [0, 1], got " +
+                    num(c.dynamic_friction));
+    if (!uniform_radius(scene))
+      why.push_back("radii: the movable particles have different radii; btSoftBody has one "
+                    "collision margin per body");
+  }
+  for (std::size_t k = 0; k < spec.attachments.size(); ++k) {
+    const AttachmentSpec& a = spec.attachments[k];
+    const std::string at = "attachments[" + std::to_string(k) + "]";
+    if (a.compliance != Real(0)) {
+      why.push_back(at + ".compliance: btSoftBody anchors have no compliance, got " +
+                    num(a.compliance) + " m/N");
+      continue;
+    }
+    const auto i = static_cast<std::size_t>(a.particle);
+    const auto b = static_cast<std::size_t>(a.body);
+    if (i < scene.masses.size() && b < spec.bodies.size() && scene.masses[i] == Real(0) &&
+        (spec.bodies[b].mass == Real(0) || spec.bodies[b].kinematic))
+      why.push_back(at + ": particle " + std::to_string(a.particle) +
+                    " (mass 0) on a static or kinematic body; a btSoftBody anchor needs a movable "
+                    "node or body");
+  }
+  return why;
+}
+
+std::string join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : "; ") + x;
+  return s;
+}
+
+long long constraint_elements(const xpbd::Model& m) {
+  long long n = 0;
+  xpbd::for_each_constraint_type([&]<class T>(std::type_identity<T>) {
+    n += static_cast<long long>(m.get<T>().size());
+  });
+  return n;
+}
+
+// ---------------------------------------------------------------------------
+// Measurements: one piece of code for every solver, from positions and
+// velocities of the particles and the Bullet state of the rigid bodies.
+
+class Measurer {
+ public:
+  Measurer(const SceneSpec& spec, const xpbd::Model& m, RigidWorld& rw)
+      : m_(m), rw_(rw), g_(spec.solver.gravity), thickness_(spec.soft.contacts.thickness) {
+    attached_.resize(static_cast<std::size_t>(rw.num_bodies()));
+    for (const AttachmentSpec& a : spec.attachments)
+      attached_[static_cast<std::size_t>(a.body)].push_back(a.particle);
+    for (auto& v : attached_) std::sort(v.begin(), v.end());
+    particle_collision_ = m.self_collision.enabled || !m.get<xpbd::Collision>().empty();
+  }
+
+  bool particle_collision() const { return particle_collision_; }
+
+  FrameMetrics measure(double time, std::span<const Vec3> x, std::span<const Vec3> v, bool finite) {
+    FrameMetrics f;
+    f.time = time;
+    if (!finite) {
+      f.kinetic_energy = f.potential_energy = f.max_strain = f.mean_strain = f.max_penetration = kNaN;
+      if (particle_collision_) f.min_particle_distance = kNaN;
+      return f;
+    }
+    energies(x, v, f);
+    strain(x, f);
+    f.max_penetration = penetration(x);
+    if (particle_collision_) f.min_particle_distance = min_pair_distance(x);
+    return f;
+  }
+
+ private:
+  void energies(std::span<const Vec3> x, std::span<const Vec3> v, FrameMetrics& f) const {
+    double ke = 0, pe = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      const Real w = m_.inv_mass[i];
+      if (!(w > Real(0))) continue;  // kinematic: infinite mass, driven
+      const Real mass = Real(1) / w;
+      ke += double(Real(0.5) * mass * v[i].squaredNorm());
+      pe -= double(mass * g_.dot(x[i]));
+    }
+    for (int b = 0; b < rw_.num_bodies(); ++b) {
+      if (!rw_.is_dynamic(b)) continue;
+      const btRigidBody& body = rw_.body(b);
+      const Real mass = Real(1) / body.getInvMass();
+      const btTransform& t = body.getCenterOfMassTransform();
+      const Vec3 vb = vec(body.getLinearVelocity());
+      // Rotational energy in the principal frame: w_local = R^T w,
+      // E = 1/2 sum_k I_k w_k^2 with I_k = 1 / invI_k (0 where invI_k = 0).
+      const Vec3 wl = vec(t.getBasis().transpose() * body.getAngularVelocity());
+      const Vec3 inv_i = vec(body.getInvInertiaDiagLocal());
+      Real rot = 0;
+      for (int k = 0; k < 3; ++k)
+        if (inv_i[k] > Real(0)) rot += wl[k] * wl[k] / inv_i[k];
+      ke += double(Real(0.5) * (mass * vb.squaredNorm() + rot));
+      pe -= double(mass * g_.dot(vec(t.getOrigin())));
+    }
+    f.kinetic_energy = ke;
+    f.potential_energy = pe;
+  }
+
+  void strain(std::span<const Vec3> x, FrameMetrics& f) const {
+    const auto& dist = m_.get<xpbd::Distance>();
+    double sum = 0, mx = 0;
+    for (const auto& d : dist) {
+      const Real len = (x[static_cast<std::size_t>(d.p[0])] - x[static_cast<std::size_t>(d.p[1])]).norm();
+      const double e = std::abs(double(len / d.rest) - 1.0);
+      sum += e;
+      mx = std::max(mx, e);
+    }
+    f.max_strain = mx;
+    f.mean_strain = dist.empty() ? 0.0 : sum / double(dist.size());
+  }
+
+  // Deepest (radius + thickness) - signed distance of a movable particle
+  // into a rigid body, 0 if none; pairs joined by an attachment are skipped.
+  double penetration(std::span<const Vec3> x) const {
+    Real worst = 0;
+    for (int b = 0; b < rw_.num_bodies(); ++b) {
+      const btRigidBody& obj = rw_.body(b);
+      btVector3 lo, hi;
+      obj.getCollisionShape()->getAabb(obj.getWorldTransform(), lo, hi);
+      const auto& skip = attached_[static_cast<std::size_t>(b)];
+      for (std::size_t i = 0; i < x.size(); ++i) {
+        if (!(m_.inv_mass[i] > Real(0))) continue;
+        const Real reach = m_.radius[i] + thickness_;
+        const Vec3& p = x[i];
+        if (p.x() < lo.x() - reach || p.y() < lo.y() - reach || p.z() < lo.z() - reach ||
+            p.x() > hi.x() + reach || p.y() > hi.y() + reach || p.z() > hi.z() + reach)
+          continue;
+        if (!skip.empty() && std::binary_search(skip.begin(), skip.end(), static_cast<Index>(i))) continue;
+        xpbd_bullet::ParticleContact c;
+        if (xpbd_bullet::query_point(obj, p, reach, c) && c.distance < reach)
+          worst = std::max(worst, reach - c.distance);
+      }
+    }
+    return double(worst);
+  }
+
+  // Smallest centre distance among the pairs that may collide: the explicit
+  // Collision pairs, and with self_collision on every pair it does not
+  // exclude (both kinematic, or connected). Exact: the grid search radius
+  // grows until a pair is found or it covers the whole bounding box.
+  std::optional<double> min_pair_distance(std::span<const Vec3> x) {
+    Real best = std::numeric_limits<Real>::infinity();
+    for (const auto& c : m_.get<xpbd::Collision>())
+      best = std::min(best, (x[static_cast<std::size_t>(c.p[0])] - x[static_cast<std::size_t>(c.p[1])]).norm());
+    const auto& sc = m_.self_collision;
+    if (sc.enabled && x.size() >= 2) {
+      Vec3 lo = x[0], hi = x[0];
+      for (const Vec3& p : x) {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+      }
+      const Real extent = (hi - lo).norm();
+      Real self = std::numeric_limits<Real>::infinity();
+      for (Real r = 2 * sc.distance;; r *= 4) {
+        xpbd::build_spatial_hash(hash_, x, r);
+        xpbd::for_each_close_pair(hash_, x, r, [&](Index i, Index j) {
+          if (m_.inv_mass[std::size_t(i)] == Real(0) && m_.inv_mass[std::size_t(j)] == Real(0)) return;
+          if (sc.excluded(i, j)) return;
+          self = std::min(self, (x[std::size_t(i)] - x[std::size_t(j)]).norm());
+        });
+        if (std::isfinite(self) || r > extent) break;
+      }
+      best = std::min(best, self);
+    }
+    if (!std::isfinite(best)) return std::nullopt;
+    return double(best);
+  }
+
+  const xpbd::Model& m_;
+  RigidWorld& rw_;
+  Vec3 g_;
+  Real thickness_;
+  std::vector<std::vector<Index>> attached_;  // per body: attached particles, sorted
+  bool particle_collision_ = false;
+  xpbd::SpatialHash hash_;
+};
+
+// ---------------------------------------------------------------------------
+// The particle system, run by one of the solvers.
+
+class SoftSim {
+ public:
+  virtual ~SoftSim() = default;
+  // Advances one frame; returns false if a state turned non-finite (the
+  // frame may then have stopped early).
+  virtual bool step_frame() = 0;
+  virtual std::span<const Vec3> x() = 0;
+  virtual std::span<const Vec3> v() = 0;
+  virtual long long projections_per_frame() const = 0;
+};
+
+class XpbdSim : public SoftSim {
+ public:
+  XpbdSim(const SceneSpec& spec, std::shared_ptr<const xpbd::Model> model, RigidWorld& rw,
+          const RunOptions& opt)
+      : rw_(rw), dt_(opt.dt), world_(rw.world()) {
+    xpbd_bullet::SystemSettings s;
+    s.substeps = opt.substeps;
+    s.iterations = opt.iterations;
+    s.method = opt.solver == Solver::pbd ? xpbd::Method::pbd : xpbd::Method::xpbd;
+    s.drag = spec.solver.drag;
+    s.alternate_sweeps = spec.solver.alternate_sweeps;
+    const SoftContactSpec& c = spec.soft.contacts;
+    s.contacts.enabled = !spec.bodies.empty();
+    s.contacts.margin = c.margin;
+    s.contacts.thickness = c.thickness;
+    s.contacts.static_friction = c.static_friction;
+    s.contacts.dynamic_friction = c.dynamic_friction;
+    s.contacts.restitution = c.restitution;
+    s.contacts.compliance = c.compliance;
+    s.contacts.feature_spacing = c.feature_spacing;
+    projections_ = static_cast<long long>(opt.substeps) * opt.iterations * constraint_elements(*model);
+    xpbd::State state = xpbd::make_state(*model);
+    id_ = world_.add_system(model, std::move(state), s);
+    const xpbd::Model& m = world_.model(id_);
+    for (const AttachmentSpec& a : spec.attachments) {
+      btRigidBody& body = rw.body(a.body);
+      world_.attach(id_, a.particle, &body,
+                    attachment_local(a, body, m.x0[static_cast<std::size_t>(a.particle)]), a.compliance);
+    }
+  }
+
+  bool step_frame() override {
+    rw_.step(dt_);
+    const xpbd::State& s = world_.state(id_);
+    return all_finite(s.x) && all_finite(s.v) && rw_.finite();
+  }
+  std::span<const Vec3> x() override { return world_.state(id_).x; }
+  std::span<const Vec3> v() override { return world_.state(id_).v; }
+  long long projections_per_frame() const override { return projections_; }
+
+ private:
+  RigidWorld& rw_;
+  Real dt_;
+  xpbd_bullet::XpbdWorld world_;  // removes its action from the world when destroyed
+  int id_ = 0;
+  long long projections_ = 0;
+};
+
+class BulletSim : public SoftSim {
+ public:
+  BulletSim(const SceneSpec& spec, const xpbd::SceneDesc& scene, const xpbd::Model& model, RigidWorld& rw,
+            const RunOptions& opt, nlohmann::json& settings, std::vector<std::string>& notes)
+      : rw_(rw), h_(opt.dt / Real(opt.substeps)), substeps_(opt.substeps) {
+    btSoftRigidDynamicsWorld& w = *rw.soft_world();
+    btSoftBodyWorldInfo& info = w.getWorldInfo();
+    // Voxel of the sparse SDF btSoftBody's node contacts read (trilinear
+    // interpolation of GJK distances sampled on the voxel grid): a quarter of
+    // the thinnest rigid feature (DESIGN.md section 5 asks for no more than
+    // the feature; at the full feature size the interpolation rounds a box's
+    // edges by centimetres, see docs/metrics.md), at most Bullet's 0.25 m.
+    const Real voxel = opt.bullet_sdf_voxel > Real(0)
+                           ? opt.bullet_sdf_voxel
+                           : std::min(Real(0.25), rw.thinnest_feature() / Real(4));
+    info.m_sparsesdf.setDefaultVoxelsz(voxel);
+    info.m_sparsesdf.Reset();
+
+    const SoftContactSpec& c = spec.soft.contacts;
+    xpbd_bullet::SoftBodyBuildConfig bc;
+    bc.piterations = opt.iterations;
+    bc.kLST = spec.solver.bullet_kLST;
+    // xpbd's drag scales velocities by exp(-drag h) every substep; Bullet by
+    // (1 - kDP) every internal step, and here an internal step is a substep.
+    bc.kDP = Real(1) - std::exp(-spec.solver.drag * h_);
+    // The distance kept from rigid surfaces: radius + thickness, as xpbd.
+    const Real radius = spec.bodies.empty() ? Real(0) : uniform_radius(scene).value_or(Real(0));
+    bc.margin = c.thickness + radius;
+    bc.friction = c.dynamic_friction;
+    body_ = xpbd_bullet::build_softbody(info, scene, model, bc);
+    w.addSoftBody(body_.get());
+    for (const AttachmentSpec& a : spec.attachments) {
+      btRigidBody& rb = rw.body(a.body);
+      body_->appendAnchor(a.particle, &rb,
+                          attachment_local(a, rb, model.x0[static_cast<std::size_t>(a.particle)]), false, 1);
+    }
+    projections_ = static_cast<long long>(opt.substeps) * opt.iterations * body_->m_links.size();
+    x_.resize(static_cast<std::size_t>(body_->m_nodes.size()));
+    v_.resize(x_.size());
+    copy();
+
+    settings = {{"world", "btSoftRigidDynamicsWorld"},
+                {"internal_steps_per_frame", opt.substeps},
+                {"internal_step", double(h_)},
+                {"piterations", opt.iterations},
+                {"viterations", 0},
+                {"diterations", 0},
+                {"kLST", double(bc.kLST)},
+                {"kDP", double(bc.kDP)},
+                {"kDF", double(bc.friction)},
+                {"kCHR", 1},
+                {"kKHR", 1},
+                {"kAHR", 1},
+                {"margin", double(bc.margin)},
+                {"collisions", "SDF_RS"},
+                {"sdf_voxel", double(voxel)},
+                {"links", body_->m_links.size()},
+                {"anchors", body_->m_anchors.size()},
+                {"sleeping", false}};
+    notes.push_back("btSoftBody: every Distance element is a link with kLST = " + num(bc.kLST) +
+                    "; the scene's distance compliances and stiffnesses are not used");
+    if (spec.solver.alternate_sweeps)
+      notes.push_back("btSoftBody: alternate_sweeps is not used (btSoftBody sweeps its links in one order)");
+    if (!spec.bodies.empty()) {
+      if (!model.collision_triangles.empty())
+        notes.push_back("btSoftBody: the " + std::to_string(model.collision_triangles.size()) +
+                        " collision_triangles are not used; btSoftBody collides its nodes only (SDF_RS)");
+      if (c.static_friction != c.dynamic_friction)
+        notes.push_back("btSoftBody: one friction coefficient, kDF = dynamic_friction; "
+                        "static_friction is not used");
+      for (std::size_t b = 0; b < spec.bodies.size(); ++b) {
+        const ShapeKind k = spec.bodies[b].shape.kind;
+        if (k == ShapeKind::plane || k == ShapeKind::mesh)
+          notes.push_back("btSoftBody: bodies[" + std::to_string(b) +
+                          "] is concave: btSoftBody collides with each triangle as a hull extruded "
+                          "0.06 m to both sides and grown by the hull's 0.04 m margin, so its nodes "
+                          "rest about 0.1 m in front of the surface (docs/metrics.md)");
+      }
+    }
+    if (!spec.attachments.empty())
+      notes.push_back("btSoftBody: anchored nodes do not collide with rigid bodies");
+  }
+
+  ~BulletSim() override { rw_.soft_world()->removeSoftBody(body_.get()); }
+
+  bool step_frame() override {
+    for (int s = 0; s < substeps_; ++s) {
+      rw_.step(h_);
+      if (!nodes_finite()) {
+        copy();
+        return false;
+      }
+    }
+    // Drops the SDF cells no node has touched for a while (as Bullet's own
+    // demos do once per frame); part of btSoftBody's cost.
+    rw_.soft_world()->getWorldInfo().m_sparsesdf.GarbageCollect();
+    copy();
+    return rw_.finite();
+  }
+  std::span<const Vec3> x() override { return x_; }
+  std::span<const Vec3> v() override { return v_; }
+  long long projections_per_frame() const override { return projections_; }
+
+ private:
+  bool nodes_finite() const {
+    auto ok = [](const btVector3& a) { return std::isfinite(a.x()) && std::isfinite(a.y()) && std::isfinite(a.z()); };
+    for (int i = 0; i < body_->m_nodes.size(); ++i)
+      if (!ok(body_->m_nodes[i].m_x) || !ok(body_->m_nodes[i].m_v)) return false;
+    return true;
+  }
+  void copy() {
+    for (int i = 0; i < body_->m_nodes.size(); ++i) {
+      x_[static_cast<std::size_t>(i)] = vec(body_->m_nodes[i].m_x);
+      v_[static_cast<std::size_t>(i)] = vec(body_->m_nodes[i].m_v);
+    }
+  }
+
+  RigidWorld& rw_;
+  Real h_;
+  int substeps_;
+  std::unique_ptr<btSoftBody> body_;
+  std::vector<Vec3> x_, v_;
+  long long projections_ = 0;
+};
+
+void finish(RunResult& r) {
+  if (!r.frame_ms.empty()) {
+    std::vector<double> t = r.frame_ms;
+    r.wall_ms_mean = std::accumulate(t.begin(), t.end(), 0.0) / double(t.size());
+    std::sort(t.begin(), t.end());
+    const std::size_t n = t.size();
+    r.wall_ms_median = n % 2 ? t[n / 2] : (t[n / 2 - 1] + t[n / 2]) / 2;
+  }
+  double mean_sum = 0;
+  int counted = 0;
+  for (std::size_t k = 1; k < r.series.size(); ++k) {
+    const FrameMetrics& f = r.series[k];
+    if (!std::isfinite(f.max_strain)) continue;  // the non-finite last frame
+    r.max_strain = std::max(r.max_strain, f.max_strain);
+    r.max_penetration = std::max(r.max_penetration, f.max_penetration);
+    mean_sum += f.mean_strain;
+    ++counted;
+    if (f.min_particle_distance)
+      r.min_particle_distance = r.min_particle_distance ? std::min(*r.min_particle_distance, *f.min_particle_distance)
+                                                        : *f.min_particle_distance;
+  }
+  // A run that went non-finite keeps the values of its finite frames.
+  if (counted > 0) r.mean_strain = mean_sum / counted;
+}
+
+}  // namespace
+
+RunOptions run_options(const SceneSpec& spec) {
+  RunOptions o;
+  o.solver = spec.solver.method;
+  o.dt = spec.solver.dt;
+  o.substeps = spec.solver.substeps;
+  o.iterations = spec.solver.iterations;
+  o.frames = spec.solver.frames;
+  return o;
+}
+
+const char* solver_name(Solver s) {
+  switch (s) {
+    case Solver::xpbd: return "xpbd";
+    case Solver::pbd: return "pbd";
+    case Solver::bullet: return "bullet";
+  }
+  return "?";
+}
+
+bool bullet_can_express(const SceneSpec& spec, const ExpandedSoft& soft, std::string* why) {
+  const auto reasons = bullet_limitations(spec, soft.scene);
+  if (why) *why = join(reasons);
+  return reasons.empty();
+}
+
+bool bullet_can_express(const SceneSpec& spec, std::string* why) {
+  return bullet_can_express(spec, expand(spec.soft, spec.base_dir), why);
+}
+
+RunResult run_scene(const SceneSpec& spec, const RunOptions& opt, const FrameCallback& on_frame) {
+  return run_scene(spec, expand(spec.soft, spec.base_dir), opt, on_frame);
+}
+
+RunResult run_scene(const SceneSpec& spec, const ExpandedSoft& soft, const RunOptions& opt,
+                    const FrameCallback& on_frame) {
+  validate_options(opt, spec);
+  validate_contacts(spec.soft.contacts);
+  auto model = std::make_shared<const xpbd::Model>(xpbd::compile(soft.scene));
+  if (model->num_particles() == 0) throw xpbd::SceneError("soft: the scene has no particles");
+  validate_attachments(spec, model->num_particles());
+  for (std::size_t i = 0; i < spec.bodies.size(); ++i) validate_body(spec.bodies[i], static_cast<int>(i));
+  const bool bullet = opt.solver == Solver::bullet;
+  if (bullet) {
+    const auto reasons = bullet_limitations(spec, soft.scene);
+    if (!reasons.empty()) throw xpbd::SceneError("--solver bullet: " + join(reasons));
+  }
+
+  RunResult r;
+  r.scene = spec.name;
+  r.options = opt;
+  r.particles = model->num_particles();
+  r.bodies = static_cast<int>(spec.bodies.size());
+  r.distance_constraints = static_cast<int>(model->get<xpbd::Distance>().size());
+  r.gravity = spec.solver.gravity;
+
+  // Declared before the solver, so the solver (which removes itself from the
+  // world) is destroyed first.
+  RigidWorld rw(spec.bodies, spec.solver.gravity, bullet, spec.base_dir);
+  std::unique_ptr<SoftSim> sim;
+  if (bullet) {
+    sim = std::make_unique<BulletSim>(spec, soft.scene, *model, rw, opt, r.solver_settings, r.notes);
+  } else {
+    sim = std::make_unique<XpbdSim>(spec, model, rw, opt);
+    const SoftContactSpec& c = spec.soft.contacts;
+    r.solver_settings = {{"world", "btDiscreteDynamicsWorld + XpbdWorld"},
+                         {"method", solver_name(opt.solver)},
+                         {"substeps", opt.substeps},
+                         {"iterations", opt.iterations},
+                         {"drag", double(spec.solver.drag)},
+                         {"alternate_sweeps", spec.solver.alternate_sweeps},
+                         {"contacts",
+                          {{"enabled", !spec.bodies.empty()},
+                           {"thickness", double(c.thickness)},
+                           {"margin", double(c.margin)},
+                           {"static_friction", double(c.static_friction)},
+                           {"dynamic_friction", double(c.dynamic_friction)},
+                           {"restitution", double(c.restitution)},
+                           {"compliance", double(c.compliance)},
+                           {"feature_spacing", double(c.feature_spacing)}}},
+                         {"attachments", spec.attachments.size()}};
+  }
+  r.projections_per_frame = sim->projections_per_frame();
+
+  Measurer meas(spec, *model, rw);
+  r.particle_collision = meas.particle_collision();
+  std::vector<BodyPose> poses;
+  auto report = [&](int frame, bool finite) {
+    const double t = double(frame) * double(opt.dt);
+    r.series.push_back(meas.measure(t, sim->x(), sim->v(), finite));
+    if (!on_frame) return;
+    rw.poses(poses);
+    FrameView view;
+    view.frame = frame;
+    view.time = t;
+    view.positions = sim->x();
+    view.bodies = poses;
+    view.finite = finite;
+    view.metrics = &r.series.back();
+    on_frame(view);
+  };
+
+  r.series.reserve(static_cast<std::size_t>(opt.frames) + 1);
+  r.frame_ms.reserve(static_cast<std::size_t>(opt.frames));
+  report(0, all_finite(sim->x()) && all_finite(sim->v()) && rw.finite());
+  for (int f = 1; f <= opt.frames && r.finite; ++f) {
+    bool ok = true;
+    const auto t0 = Clock::now();
+    try {
+      ok = sim->step_frame();
+    } catch (const std::invalid_argument&) {
+      // A query refusing a non-finite input (narrowphase.hpp) means the state
+      // went non-finite inside the frame; anything else is a real error.
+      if (all_finite(sim->x()) && all_finite(sim->v()) && rw.finite()) throw;
+      ok = false;
+    }
+    const auto t1 = Clock::now();
+    r.frame_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    r.frames_completed = f;
+    r.finite = ok;
+    report(f, ok);
+  }
+  finish(r);
+  return r;
+}
+
+nlohmann::json to_json(const RunResult& r) {
+  using nlohmann::json;
+  auto opt_num = [](const std::optional<double>& v) { return v ? json(*v) : json(nullptr); };
+  json frames = json::array();
+  for (std::size_t k = 0; k < r.series.size(); ++k) {
+    const FrameMetrics& f = r.series[k];
+    json e = {{"frame", k},
+              {"time", f.time},
+              {"kinetic_energy", f.kinetic_energy},
+              {"potential_energy", f.potential_energy},
+              {"max_strain", f.max_strain},
+              {"mean_strain", f.mean_strain},
+              {"max_penetration", f.max_penetration}};
+    if (f.min_particle_distance) e["min_particle_distance"] = *f.min_particle_distance;
+    if (k >= 1 && k - 1 < r.frame_ms.size()) e["wall_ms"] = r.frame_ms[k - 1];
+    frames.push_back(std::move(e));
+  }
+  json j = {{"schema", "xpbd-demo/metrics/1"},
+            {"scene", r.scene},
+            {"solver", solver_name(r.options.solver)},
+            {"scalar", sizeof(Real) == 8 ? "double" : "float"},
+            {"dt", double(r.options.dt)},
+            {"substeps", r.options.substeps},
+            {"iterations", r.options.iterations},
+            {"frames", r.options.frames},
+            {"frames_completed", r.frames_completed},
+            {"gravity", {double(r.gravity.x()), double(r.gravity.y()), double(r.gravity.z())}},
+            {"particles", r.particles},
+            {"bodies", r.bodies},
+            {"distance_constraints", r.distance_constraints},
+            {"wall_ms_per_frame", {{"median", r.wall_ms_median}, {"mean", r.wall_ms_mean}}},
+            {"projections_per_frame", r.projections_per_frame},
+            {"max_strain", r.max_strain},
+            {"mean_strain", r.mean_strain},
+            {"max_penetration", r.max_penetration},
+            {"finite", r.finite},
+            {"solver_settings", r.solver_settings},
+            {"notes", r.notes},
+            {"per_frame", frames}};
+  if (r.particle_collision) j["min_particle_distance"] = opt_num(r.min_particle_distance);
+  return j;
+}
+
+}  // namespace xpbd_demos
