@@ -11,6 +11,12 @@ namespace xpbd_demos {
 namespace fs = std::filesystem;
 
 void write_json_atomically(const fs::path& file, const nlohmann::json& j) {
+  // Non-finite numbers become null (nlohmann's dump); no exception for
+  // invalid UTF-8 since all strings are ours.
+  write_text_atomically(file, j.dump(2) + '\n');
+}
+
+void write_text_atomically(const fs::path& file, const std::string& text) {
   const fs::path dir = file.has_parent_path() ? file.parent_path() : fs::path(".");
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -27,9 +33,7 @@ void write_json_atomically(const fs::path& file, const nlohmann::json& j) {
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) throw std::runtime_error("cannot open '" + tmp.string() + "' for writing");
-    // Non-finite numbers become null (nlohmann's dump); no exception for
-    // invalid UTF-8 since all strings are ours.
-    out << j.dump(2) << '\n';
+    out << text;
     out.flush();
     if (!out) {
       out.close();
