@@ -1,62 +1,382 @@
-// xpbd-demo: headless demos of the xpbd solver.
+// xpbd-demo: headless demo scenes (docs/demo.md).
 //
-//   xpbd-demo                          the default demo (docs/demo.md)
-//   xpbd-demo --frames N --out DIR     the same, N frames, metrics.json in DIR
+//   xpbd-demo                       the default scene, run with XPBD, PBD and
+//                                   btSoftBody, and their comparison
+//   xpbd-demo --list                the built-in scenes
+//   xpbd-demo --dump NAME           a built-in scene as a scene file
+//   xpbd-demo SCENE|FILE [options]  one scene, one solver (or --solver all)
 //
-// Exit status: 0 on success, 1 if the run or the output fails, 2 for bad
-// command-line input. Later options (--list, --solver, scene files) hang off
-// the same CLI::App.
+// Exit status: 0 success; 1 the run or an output failed (or the state went
+// non-finite); 2 bad input (command line or scene); 130 interrupted.
 #include <CLI/CLI.hpp>
+#include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <system_error>
+#include <vector>
 
-#include "demos/default_demo.hpp"
+#include "demos/builtin_scenes.hpp"
+#include "demos/frame_export.hpp"
 #include "demos/output.hpp"
+#include "demos/preview.hpp"
+#include "demos/scene_file.hpp"
+#include "demos/scene_runner.hpp"
+#include "xpbd/error.hpp"
+
+namespace {
+
+using namespace xpbd_demos;
+namespace fs = std::filesystem;
+
+constexpr int kOk = 0, kRunFailed = 1, kBadInput = 2, kInterrupted = 130;
+
+std::atomic<bool> g_interrupted{false};
+extern "C" void on_signal(int) { g_interrupted = true; }
+struct Interrupted {};
+
+// Bad input found after the command line parsed (unknown scene, ...).
+struct BadInput : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Progress: a bar redrawn in place on a terminal, a plain line per 10% otherwise.
+class Progress {
+ public:
+  Progress(std::string label, int total) : label_(std::move(label)), total_(total), tty_(isatty(2)) {}
+  void update(int done) {
+    const int pct = total_ > 0 ? done * 100 / total_ : 100;
+    if (tty_) {
+      if (pct == last_) return;
+      const int width = 30, filled = pct * width / 100;
+      std::fprintf(stderr, "\r%-28s [%s%s] %3d%% (%d/%d)", label_.c_str(), std::string(filled, '#').c_str(),
+                   std::string(width - filled, ' ').c_str(), pct, done, total_);
+      if (done == total_) std::fputc('\n', stderr);
+    } else {
+      if (pct / 10 == last_ / 10 && last_ >= 0) return;
+      std::fprintf(stderr, "%s: %d%% (frame %d of %d)\n", label_.c_str(), pct / 10 * 10, done, total_);
+    }
+    last_ = pct;
+    std::fflush(stderr);
+  }
+  void abort() {
+    if (tty_ && last_ >= 0 && last_ < 100) std::fputc('\n', stderr);
+  }
+
+ private:
+  std::string label_;
+  int total_;
+  bool tty_;
+  int last_ = -1;
+};
+
+struct Cli {
+  std::string scene;  // built-in name or file; empty = default comparison
+  std::string solver;  // xpbd|pbd|bullet|all; empty = the scene's own
+  std::optional<int> substeps, iterations, frames;
+  std::optional<double> dt;
+  std::string out;
+  std::vector<std::string> sets;
+  std::string export_format;  // "", obj, vtk
+  bool preview = true;
+};
+
+// The scene named on the command line: a file if it names one (or ends in
+// .json), otherwise a built-in scene.
+SceneSpec resolve_scene(const std::string& name) {
+  std::error_code ec;
+  if (fs::is_regular_file(name, ec) || name.ends_with(".json")) return load_scene_file(name);
+  if (const SceneSpec* s = find_builtin_scene(name)) return *s;
+  throw BadInput("unknown scene '" + name + "': not a built-in scene (see --list) and no such file");
+}
+
+Solver parse_solver(const std::string& s) {
+  if (s == "xpbd") return Solver::xpbd;
+  if (s == "pbd") return Solver::pbd;
+  return Solver::bullet;
+}
+
+struct RunOutput {
+  RunResult result;
+  fs::path dir;
+  std::vector<std::string> files;
+  std::string error;  // an output that failed (the others were written)
+};
+
+// Runs one solver on the scene and writes its outputs to `dir`.
+RunOutput run_one(const SceneSpec& spec, const ExpandedSoft& soft, const RunOptions& opt, const fs::path& dir,
+                  const Cli& cli) {
+  RunOutput out;
+  out.dir = dir;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw std::runtime_error("cannot create directory '" + dir.string() + "': " + ec.message());
+
+  std::optional<ExportFormat> fmt;
+  if (cli.export_format == "obj") fmt = ExportFormat::obj;
+  if (cli.export_format == "vtk") fmt = ExportFormat::vtk;
+  // Rigid bodies as meshes in their body frames, once (exports, preview).
+  std::vector<RigidMesh> body_meshes;
+  const bool need_meshes = fmt.has_value() || cli.preview;
+  if (need_meshes)
+    for (std::size_t k = 0; k < spec.bodies.size(); ++k) {
+      body_meshes.push_back(shape_mesh(spec.bodies[k].shape, spec.base_dir));
+      body_meshes.back().name = spec.bodies[k].name.empty() ? "body_" + std::to_string(k) : spec.bodies[k].name;
+    }
+  auto posed = [&](const FrameView& v) {
+    std::vector<RigidMesh> m;
+    for (std::size_t k = 0; k < body_meshes.size() && k < v.bodies.size(); ++k) {
+      if (spec.bodies[k].shape.kind == ShapeKind::plane) {
+        // Planes are framed around the world origin (rigid_mesh).
+        m.push_back(rigid_mesh(spec.bodies[k].shape, v.bodies[k].position, v.bodies[k].orientation, spec.base_dir));
+        m.back().name = body_meshes[k].name;
+      } else {
+        m.push_back(transform_mesh(body_meshes[k], v.bodies[k].position, v.bodies[k].orientation));
+      }
+    }
+    return m;
+  };
+
+  const std::vector<int> shown = preview_frame_numbers(opt.frames + 1, 4);
+  PreviewInput preview;
+  preview.title = spec.name + " - " + solver_name(opt.solver);
+  preview.triangles = soft.triangles;
+  preview.lines = soft.lines;
+  Progress progress(spec.name + " (" + solver_name(opt.solver) + ")", opt.frames);
+  int exported = 0;
+  auto on_frame = [&](const FrameView& v) {
+    if (g_interrupted) throw Interrupted{};
+    if (fmt && v.finite) {
+      write_frame(*fmt, frame_file_path(dir, v.frame, *fmt), v.positions, soft.triangles, soft.lines, posed(v));
+      ++exported;
+    }
+    const bool last = v.frame == opt.frames || !v.finite;
+    if (cli.preview && v.finite && (std::find(shown.begin(), shown.end(), v.frame) != shown.end() || last)) {
+      // Keep the planned frames; if the run stops early, its last finite
+      // frame replaces the ones it never reached.
+      PreviewFrame f;
+      f.time = v.time;
+      f.x.assign(v.positions.begin(), v.positions.end());
+      f.bodies = posed(v);
+      if (preview.frames.size() < shown.size()) preview.frames.push_back(std::move(f));
+      else if (last) preview.frames.back() = std::move(f);
+    }
+    progress.update(v.frame);
+  };
+  try {
+    out.result = run_scene(spec, soft, opt, on_frame);
+  } catch (...) {
+    progress.abort();
+    throw;
+  }
+  const fs::path metrics = dir / "metrics.json";
+  write_json_atomically(metrics, to_json(out.result));
+  out.files.push_back(metrics.string());
+  if (fmt) out.files.push_back((dir / "frames").string() + "/ (" + std::to_string(exported) + " ." +
+                               extension(*fmt) + " files)");
+  if (cli.preview && !preview.frames.empty()) {
+    try {
+      render_preview(dir / "preview.png", preview);
+      out.files.push_back((dir / "preview.png").string());
+    } catch (const std::exception& e) {
+      out.error = std::string("preview.png: ") + e.what();
+    }
+  }
+  return out;
+}
+
+void print_run(const RunOutput& o) {
+  const RunResult& r = o.result;
+  std::printf("%-8s %3d x %-3d %9.3f %11lld %11.3e %11.3e %10.3e  %s\n", solver_name(r.options.solver),
+              r.options.substeps, r.options.iterations, r.wall_ms_median, r.projections_per_frame,
+              r.max_strain, r.mean_strain, r.max_penetration, r.finite ? "yes" : "NO");
+}
+
+void print_header() {
+  std::printf("%-8s %-9s %9s %11s %11s %11s %10s  %s\n", "solver", "budget", "ms/frame", "proj/frame",
+              "strain max", "strain mean", "penetr. m", "finite");
+}
+
+std::string fmt_ratio(double num, double den) {
+  if (!(den > 0) || !std::isfinite(num / den)) return "n/a";
+  char b[32];
+  std::snprintf(b, sizeof b, "%.3g", num / den);
+  return b;
+}
+
+int run(const Cli& cli) {
+  const bool comparison = cli.scene.empty() || cli.solver == "all";
+  SceneSpec spec = resolve_scene(cli.scene.empty() ? kDefaultScene : cli.scene);
+  const std::string label = cli.scene.empty() ? std::string(kDefaultScene) : cli.scene;
+  if (!cli.sets.empty()) spec = apply_sets(spec, cli.sets, label);
+  RunOptions base = run_options(spec);
+  if (cli.substeps) base.substeps = *cli.substeps;
+  if (cli.iterations) base.iterations = *cli.iterations;
+  if (cli.frames) base.frames = *cli.frames;
+  if (cli.dt) base.dt = static_cast<xpbd::Real>(*cli.dt);
+
+  // The runs: solver, budget split, output folder. The comparison spends the
+  // same budget (projections per frame) four ways: XPBD as the scene says
+  // (substeps x iterations); PBD as the seed's Algorithm 1 (one step of
+  // substeps x iterations sweeps); btSoftBody as it is usually run (one
+  // internal step per frame, piterations = the whole budget) and with
+  // XPBD's split (`substeps` internal steps of `iterations` piterations).
+  struct Plan {
+    Solver solver;
+    bool one_step;
+    std::string folder;
+  };
+  std::vector<Plan> plans;
+  if (comparison)
+    plans = {{Solver::xpbd, false, "xpbd"}, {Solver::pbd, true, "pbd"}, {Solver::bullet, true, "bullet"},
+             {Solver::bullet, false, "bullet_substeps"}};
+  else
+    plans = {{cli.solver.empty() ? base.solver : parse_solver(cli.solver), false, ""}};
+
+  const ExpandedSoft soft = expand(spec.soft, spec.base_dir);
+  std::string why;
+  const bool bullet_ok = bullet_can_express(spec, soft, &why);
+  if (!comparison && plans[0].solver == Solver::bullet && !bullet_ok)
+    throw BadInput("--solver bullet: " + spec.name + ": " + why);
+
+  const fs::path root = cli.out.empty() ? fs::path("out") / (cli.scene.empty() ? "default" : spec.name) : fs::path(cli.out);
+  std::printf("scene %s: %s\n", spec.name.c_str(), spec.description.c_str());
+  std::printf("%d frames of %.4g s; %zu particles, %zu rigid bodies\n", base.frames, double(base.dt),
+              soft.scene.positions.size(), spec.bodies.size());
+  std::vector<RunOutput> outs;
+  std::vector<std::string> skipped;
+  for (const Plan& p : plans) {
+    if (p.solver == Solver::bullet && !bullet_ok) {
+      if (p.folder != "bullet_substeps") skipped.push_back(std::string("btSoftBody: ") + why);
+      continue;
+    }
+    RunOptions opt = base;
+    opt.solver = p.solver;
+    if (p.one_step) {
+      opt.iterations = base.substeps * base.iterations;
+      opt.substeps = 1;
+    }
+    outs.push_back(run_one(spec, soft, opt, root / p.folder, cli));
+  }
+
+  std::printf("\n");
+  print_header();
+  for (const RunOutput& o : outs) print_run(o);
+  for (const std::string& s : skipped) std::printf("skipped %s\n", s.c_str());
+  if (comparison && outs.size() == 4) {
+    std::printf("\nbtSoftBody / XPBD at the same budget:\n");
+    const RunResult& x = outs[0].result;
+    for (int k : {2, 3}) {
+      const RunResult& b = outs[k].result;
+      std::printf("  %3d x %-3d time %s, max strain %s, mean strain %s, max penetration %s\n", b.options.substeps,
+                  b.options.iterations, fmt_ratio(b.wall_ms_median, x.wall_ms_median).c_str(),
+                  fmt_ratio(b.max_strain, x.max_strain).c_str(), fmt_ratio(b.mean_strain, x.mean_strain).c_str(),
+                  fmt_ratio(b.max_penetration, x.max_penetration).c_str());
+    }
+  }
+  std::vector<std::string> notes;  // once each, in order
+  for (const RunOutput& o : outs)
+    for (const std::string& note : o.result.notes)
+      if (std::find(notes.begin(), notes.end(), note) == notes.end()) notes.push_back(note);
+  for (const std::string& note : notes) std::printf("note: %s\n", note.c_str());
+  std::printf("\nfiles:\n");
+  int status = kOk;
+  for (const RunOutput& o : outs) {
+    for (const std::string& f : o.files) std::printf("  %s\n", f.c_str());
+    if (!o.error.empty()) {
+      std::fprintf(stderr, "xpbd-demo: %s\n", o.error.c_str());
+      status = kRunFailed;
+    }
+    if (!o.result.finite) {
+      std::fprintf(stderr, "xpbd-demo: %s (%s): the state became non-finite after frame %d\n", spec.name.c_str(),
+                   solver_name(o.result.options.solver), o.result.frames_completed);
+      status = kRunFailed;
+    }
+  }
+  std::printf("metrics fields and units: docs/metrics.md\n");
+  return status;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
-  constexpr int kOk = 0, kRunFailed = 1, kBadInput = 2;
-  xpbd_demos::DefaultDemoOptions opt;
-  std::string out_dir = "out/default";
-
-  CLI::App app{"xpbd-demo: headless XPBD demos. Without options: the hanging-cloth comparison "
-               "of XPBD, PBD and Bullet's btSoftBody (docs/demo.md)."};
-  app.add_option("--frames", opt.frames, "frames to simulate at 60 Hz")
-      ->check(CLI::Range(1, 1000000))
-      ->capture_default_str();
-  app.add_option("--out", out_dir, "output directory (metrics.json goes there)")
-      ->capture_default_str();
+  Cli cli;
+  bool list = false;
+  std::string dump;
+  CLI::App app{"xpbd-demo: headless XPBD demo scenes in Bullet (docs/demo.md). Without a scene: the "
+               "default scene run with XPBD, PBD and Bullet's btSoftBody, and their comparison."};
+  app.add_flag("--list", list, "list the built-in scenes");
+  app.add_option("--dump", dump, "print a built-in scene as a scene file (docs/scene-format.md)");
+  app.add_option("scene", cli.scene, "built-in scene name or scene file (.json)");
+  app.add_option("--solver", cli.solver, "xpbd, pbd, bullet (btSoftBody), or all; default: the scene's")
+      ->check(CLI::IsMember({"xpbd", "pbd", "bullet", "all"}));
+  app.add_option("--substeps", cli.substeps, "substeps per frame (btSoftBody: internal steps)")->check(CLI::Range(1, 100000));
+  app.add_option("--iterations", cli.iterations, "iterations per substep (btSoftBody: piterations)")->check(CLI::Range(1, 100000));
+  app.add_option("--frames", cli.frames, "frames to run")->check(CLI::Range(1, 10000000));
+  app.add_option("--dt", cli.dt, "frame length in seconds")->check(CLI::PositiveNumber);
+  app.add_option("--out", cli.out, "output directory (default: out/<scene>, out/default without a scene)");
+  app.add_option("--set", cli.sets, "override a scene field: path=value, e.g. solver.substeps=20 or bodies.0.mass=2")
+      ->take_all();
+  app.add_option("--export", cli.export_format, "also write every frame as obj (Blender) or vtk (ParaView)")
+      ->check(CLI::IsMember({"obj", "vtk"}));
+  app.add_flag("!--no-preview", cli.preview, "do not render preview.png");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);  // prints help, or the error and a hint
+    const int code = app.exit(e);
     return code == 0 ? kOk : kBadInput;
   }
-  if (out_dir.empty()) {
-    std::fprintf(stderr, "--out: the output directory must not be empty\n");
+  if (list && (!dump.empty() || !cli.scene.empty())) {
+    std::fprintf(stderr, "xpbd-demo: --list takes no scene\n");
     return kBadInput;
   }
-
-  try {
-    // Fail before the run, not after it, if the output directory is unusable.
-    const std::filesystem::path file = std::filesystem::path(out_dir) / "metrics.json";
-    std::error_code ec;
-    std::filesystem::create_directories(out_dir, ec);
-    if (ec) {
-      std::fprintf(stderr, "xpbd-demo: cannot create directory '%s': %s\n", out_dir.c_str(),
-                   ec.message().c_str());
+  if (list) {
+    for (const SceneSpec& s : builtin_scenes())
+      std::printf("%-24s %s%s\n", s.name.c_str(), s.description.c_str(), s.name == kDefaultScene ? " (default)" : "");
+    return kOk;
+  }
+  if (!dump.empty()) {
+    const SceneSpec* s = find_builtin_scene(dump);
+    if (!s) {
+      std::fprintf(stderr, "xpbd-demo: --dump: unknown scene '%s' (see --list)\n", dump.c_str());
+      return kBadInput;
+    }
+    try {
+      std::fputs(scene_text(to_json(*s)).c_str(), stdout);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "xpbd-demo: --dump %s: %s\n", dump.c_str(), e.what());
       return kRunFailed;
     }
-    const xpbd_demos::DefaultDemoResult r = xpbd_demos::run_default_demo(opt);
-    xpbd_demos::print_summary(r, stdout);
-    xpbd_demos::write_json_atomically(file, xpbd_demos::to_json(r));
-    std::printf("wrote %s\n", file.string().c_str());
+    return kOk;
+  }
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  try {
+    return run(cli);
+  } catch (const Interrupted&) {
+    std::fprintf(stderr, "xpbd-demo: interrupted; files written so far are complete, the run's metrics.json was not written\n");
+    return kInterrupted;
+  } catch (const SceneFileError& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return kBadInput;
+  } catch (const BadInput& e) {
+    std::fprintf(stderr, "xpbd-demo: %s\n", e.what());
+    return kBadInput;
+  } catch (const xpbd::SceneError& e) {
+    std::fprintf(stderr, "xpbd-demo: %s: %s\n", cli.scene.empty() ? kDefaultScene : cli.scene.c_str(), e.what());
+    return kBadInput;
+  } catch (const xpbd::ConfigError& e) {
+    std::fprintf(stderr, "xpbd-demo: %s\n", e.what());
+    return kBadInput;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "xpbd-demo: %s\n", e.what());
     return kRunFailed;
   }
-  return kOk;
 }

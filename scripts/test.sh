@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # README command (2): installs what is missing, builds, and runs every test.
 #   - double precision (default build): all labels
-#   - float build: unit and bridge labels (validation tolerances are set for double)
-#   - ASan + UBSan build: unit, validation and bridge
+#   - float build: unit, bridge, integration and demos (the closed-form
+#     validation tolerances are set for double)
+#   - ASan + UBSan build: unit, validation, bridge and demos (scene-file parsing,
+#     the runner, exports)
 # Exits non-zero on any build or test failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -12,8 +14,8 @@ scripts/setup.sh double
 ctest --test-dir build/double --output-on-failure -j"$jobs"
 
 scripts/setup.sh float
-ctest --test-dir build/float --output-on-failure -j"$jobs" -L 'unit|bridge'
+ctest --test-dir build/float --output-on-failure -j"$jobs" -L 'unit|bridge|integration|demos'
 
 scripts/setup.sh asan
 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
-  ctest --test-dir build/asan --output-on-failure -j"$jobs" -L 'unit|validation|bridge'
+  ctest --test-dir build/asan --output-on-failure -j"$jobs" -L 'unit|validation|bridge|demos'

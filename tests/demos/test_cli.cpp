@@ -1,0 +1,211 @@
+// The xpbd-demo program as a user runs it: --list, --dump, exit status 2 and
+// the JSON path for every malformed scene file, and an interrupted run that
+// leaves no truncated output. Runs the built binary (XPBD_DEMO_EXE).
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "demos/builtin_scenes.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int status = -1;  // exit status, or 128 + signal
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("xpbd_test_cli_" + std::to_string(getpid())) / name;
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+// Runs xpbd-demo with `args` (no shell), stdout and stderr to files.
+Result run(const std::vector<std::string>& args) {
+  const fs::path dir = scratch("io");
+  const fs::path out = dir / "stdout", err = dir / "stderr";
+  const pid_t pid = fork();
+  if (pid == 0) {
+    std::freopen(out.c_str(), "w", stdout);
+    std::freopen(err.c_str(), "w", stderr);
+    std::vector<char*> argv;
+    std::string exe = XPBD_DEMO_EXE;
+    argv.push_back(exe.data());
+    std::vector<std::string> copy = args;
+    for (std::string& a : copy) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execv(exe.c_str(), argv.data());
+    _exit(127);
+  }
+  int st = 0;
+  waitpid(pid, &st, 0);
+  Result r;
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+  r.out = slurp(out);
+  r.err = slurp(err);
+  return r;
+}
+
+TEST(Cli, ListPrintsEveryBuiltInSceneWithADescription) {
+  const Result r = run({"--list"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::istringstream lines(r.out);
+  std::string line;
+  int n = 0;
+  while (std::getline(lines, line)) {
+    ++n;
+    // "<name> <description>": a name and at least a few words.
+    EXPECT_GT(line.find_first_not_of(' ', line.find(' ')), line.find(' ')) << line;
+    EXPECT_GT(line.size(), 30u) << line;
+  }
+  EXPECT_GE(n, 10);
+  EXPECT_EQ(n, static_cast<int>(xpbd_demos::builtin_scenes().size()));
+  for (const auto& s : xpbd_demos::builtin_scenes()) EXPECT_NE(r.out.find(s.name + " "), std::string::npos) << s.name;
+}
+
+TEST(Cli, DumpPrintsASceneFileThatRunsAsIs) {
+  const Result d = run({"--dump", "rope_pendulum"});
+  ASSERT_EQ(d.status, 0) << d.err;
+  const auto j = nlohmann::json::parse(d.out);  // throws (fails the test) if not JSON
+  EXPECT_EQ(j.at("name"), "rope_pendulum");
+  const fs::path dir = scratch("dump");
+  std::ofstream(dir / "rope.json") << d.out;
+  const Result r = run({(dir / "rope.json").string(), "--frames", "5", "--no-preview", "--out", (dir / "o").string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto m = nlohmann::json::parse(slurp(dir / "o" / "metrics.json"));
+  EXPECT_EQ(m.at("scene"), "rope_pendulum");
+  EXPECT_EQ(m.at("frames"), 5);
+  EXPECT_EQ(m.at("finite"), true);
+}
+
+TEST(Cli, BadCommandLineExitsWithStatus2) {
+  EXPECT_EQ(run({"no_such_scene", "--frames", "1"}).status, 2);
+  EXPECT_EQ(run({"--dump", "no_such_scene"}).status, 2);
+  EXPECT_EQ(run({"rope_pendulum", "--solver", "jolt"}).status, 2);
+  EXPECT_EQ(run({"rope_pendulum", "--substeps", "0"}).status, 2);
+  EXPECT_EQ(run({"rope_pendulum", "--dt", "-1"}).status, 2);
+  const Result s = run({"rope_pendulum", "--set", "bodies.0.mass=-1", "--frames", "1", "--no-preview"});
+  EXPECT_EQ(s.status, 2);
+  EXPECT_NE(s.err.find("/bodies/0/mass"), std::string::npos) << s.err;
+  // A scene btSoftBody cannot express is refused, naming the element.
+  const Result b = run({"flag", "--solver", "bullet", "--frames", "1", "--no-preview"});
+  EXPECT_EQ(b.status, 2);
+  EXPECT_NE(b.err.find("dihedral"), std::string::npos) << b.err;
+}
+
+// Every file of the malformed corpus (tests/demos/malformed/EXPECTED.txt:
+// file, expected JSON path) exits with status 2 before running anything and
+// names the file and the path on stderr.
+TEST(Cli, EveryMalformedSceneFileExitsWithStatus2NamingFileAndPath) {
+  const fs::path dir = fs::path(XPBD_SOURCE_DIR) / "tests" / "demos" / "malformed";
+  std::istringstream table(slurp(dir / "EXPECTED.txt"));
+  std::string line;
+  int cases = 0;
+  const fs::path out = scratch("malformed");
+  while (std::getline(table, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream f(line);
+    std::string file, expect;
+    f >> file >> expect;
+    const Result r = run({(dir / file).string(), "--frames", "1", "--no-preview", "--out", (out / file).string()});
+    EXPECT_EQ(r.status, 2) << file << ": " << r.err;
+    EXPECT_NE(r.err.find(file), std::string::npos) << file << ": " << r.err;
+    EXPECT_NE(r.err.find(expect), std::string::npos) << file << ": expected '" << expect << "' in: " << r.err;
+    // Nothing ran: no output directory content.
+    EXPECT_FALSE(fs::exists(out / file / "metrics.json")) << file;
+    ++cases;
+  }
+  EXPECT_GE(cases, 20);
+}
+
+// Counts the lines of an OBJ file that start with `prefix`.
+int count_lines(const std::string& text, const std::string& prefix) {
+  int n = 0;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) n += line.rfind(prefix, 0) == 0;
+  return n;
+}
+
+// A run stopped by SIGTERM, and one killed by SIGKILL, while it writes a
+// frame file per frame: every file it left under its final name is complete
+// (the same number of vertices and faces as a frame written by a run that
+// finished), and no metrics.json is half written.
+void check_interrupted(int sig) {
+  const fs::path dir = scratch(sig == SIGKILL ? "kill" : "term");
+  // Reference: one complete frame of the same scene.
+  const Result ref = run({"hanging_cloth", "--frames", "1", "--no-preview", "--export", "obj", "--out",
+                          (dir / "ref").string()});
+  ASSERT_EQ(ref.status, 0) << ref.err;
+  const std::string frame0 = slurp(dir / "ref" / "frames" / "frame_00000.obj");
+  const int verts = count_lines(frame0, "v "), faces = count_lines(frame0, "f ");
+  ASSERT_GT(verts, 0);
+
+  const pid_t pid = fork();
+  if (pid == 0) {
+    std::freopen("/dev/null", "w", stdout);
+    std::freopen("/dev/null", "w", stderr);
+    execl(XPBD_DEMO_EXE, XPBD_DEMO_EXE, "hanging_cloth", "--frames", "100000", "--no-preview", "--export", "obj",
+          "--out", (dir / "run").c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Wait until it has written a few frames, then stop it mid-run.
+  const fs::path frames = dir / "run" / "frames";
+  for (int k = 0; k < 2000; ++k) {
+    std::error_code ec;
+    int n = 0;
+    if (fs::exists(frames, ec))
+      for (auto it = fs::directory_iterator(frames, ec); it != fs::directory_iterator(); ++it) ++n;
+    if (n >= 20) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  kill(pid, sig);
+  int st = 0;
+  waitpid(pid, &st, 0);
+  if (sig == SIGTERM) {
+    ASSERT_TRUE(WIFEXITED(st));
+    EXPECT_EQ(WEXITSTATUS(st), 130);
+  } else {
+    ASSERT_TRUE(WIFSIGNALED(st));
+  }
+  int complete = 0;
+  for (const auto& e : fs::directory_iterator(frames)) {
+    const std::string name = e.path().filename().string();
+    if (!name.starts_with("frame_") || !name.ends_with(".obj")) continue;  // temporary files
+    const std::string text = slurp(e.path());
+    EXPECT_EQ(count_lines(text, "v "), verts) << name;
+    EXPECT_EQ(count_lines(text, "f "), faces) << name;
+    ++complete;
+  }
+  EXPECT_GE(complete, 20);
+  // The run never finished, so it wrote no metrics.json at all.
+  EXPECT_FALSE(fs::exists(dir / "run" / "metrics.json"));
+}
+
+TEST(Cli, RunStoppedBySigtermLeavesOnlyCompleteFiles) { check_interrupted(SIGTERM); }
+TEST(Cli, RunKilledBySigkillLeavesOnlyCompleteFiles) { check_interrupted(SIGKILL); }
+
+}  // namespace
