@@ -24,18 +24,8 @@ using xpbd::Vec3;
 // becomes a hull extruded by this much to both sides.
 constexpr Real kBulletTriangleSlab = Real(0.06);  // m
 
-std::string num(Real v) {
-  std::ostringstream o;
-  o.precision(9);
-  o << v;
-  return o.str();
-}
-std::string vec(const Vec3& v) {
-  std::ostringstream o;
-  o.precision(9);
-  o << '(' << v.x() << ", " << v.y() << ", " << v.z() << ')';
-  return o.str();
-}
+std::string num(double v) { return xpbd::format_value(v); }
+std::string vec(const Vec3& v) { return xpbd::format_vec(v); }
 
 btVector3 bt(const Vec3& v) { return btVector3(v.x(), v.y(), v.z()); }
 

@@ -76,12 +76,7 @@ const char* enum_name(const EnumName<E> (&table)[N], E v) {
 // ---------------------------------------------------------------------------
 // Small helpers.
 
-std::string num(double v) {
-  std::ostringstream o;
-  o.precision(9);
-  o << v;
-  return o.str();
-}
+std::string num(double v) { return xpbd::format_value(v); }
 
 // A JSON value as it appears in a message, shortened.
 std::string show(const json& v) {

@@ -28,12 +28,7 @@ constexpr std::int64_t kMaxParticles = 1000000;
 // four-digit rounding (0.7071), catches typos.
 constexpr double kAxisTol = 1e-3;
 
-std::string num(double v) {
-  std::ostringstream o;
-  o.precision(9);
-  o << v;
-  return o.str();
-}
+std::string num(double v) { return xpbd::format_value(v); }
 
 std::string vec(const Vec3& v) {
   std::ostringstream o;

@@ -18,12 +18,7 @@ namespace {
 using xpbd::Real;
 using xpbd::Vec3;
 
-std::string num(Real v) {
-  std::ostringstream o;
-  o.precision(9);
-  o << v;
-  return o.str();
-}
+std::string num(double v) { return xpbd::format_value(v); }
 
 btVector3 bt(const Vec3& v) { return btVector3(v.x(), v.y(), v.z()); }
 

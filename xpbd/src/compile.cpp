@@ -13,21 +13,9 @@
 namespace xpbd {
 namespace {
 
-std::string num(Real v) {
-  std::ostringstream o;
-  o.precision(9);
-  o << v;
-  return o.str();
-}
+std::string num(double v) { return xpbd::format_value(v); }
 
-// Built with a stream: GCC 12 warns falsely (-Wrestrict, GCC bug 105329) on
-// "literal" + std::string&& chains.
-std::string vec(const Vec3& v) {
-  std::ostringstream o;
-  o.precision(9);
-  o << '(' << v.x() << ", " << v.y() << ", " << v.z() << ')';
-  return o.str();
-}
+std::string vec(const Vec3& v) { return xpbd::format_vec(v); }
 
 [[noreturn]] void fail(const std::string& where, const std::string& field, const std::string& what) {
   throw SceneError(where + "." + field + ": " + what);

@@ -2,6 +2,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "xpbd/types.hpp"
+
 namespace xpbd {
 
 // Thrown by compile() for invalid scene input. The message names the element
@@ -16,5 +18,10 @@ class ConfigError : public std::invalid_argument {
  public:
   using std::invalid_argument::invalid_argument;
 };
+
+// How error messages print values: 9 significant digits ("-2.5e-07",
+// "0.333333333"), and vectors as "(x, y, z)".
+std::string format_value(double v);
+std::string format_vec(const Vec3& v);
 
 }  // namespace xpbd
