@@ -300,7 +300,7 @@ TEST(WorldCoupling, HeavyBallOnTrampolineDoesNotTunnelAndComesToRest) {
 
   Real worst = 1e9;  // smallest (ball centre - cloth surface below it), m
   std::vector<Vec3> pos;
-  const int steps = 10 * 60;
+  const int steps = 15 * 60;
   for (int k = 0; k < steps; ++k) {
     bw.step();
     const Vec3 c = vec(ball->getCenterOfMassPosition());
@@ -311,22 +311,33 @@ TEST(WorldCoupling, HeavyBallOnTrampolineDoesNotTunnelAndComesToRest) {
     ASSERT_TRUE(cloth_height_below(g, xw.state(id), c.x(), c.z(), y)) << "ball left the cloth at step " << k;
     worst = std::min(worst, c.y() - y);
   }
-  const Real mean_speed = (pos.back() - pos[steps - 61]).norm();  // m over the last 1 s
+  // Extent of the ball's centre over the last 2 s (largest of max - min
+  // per axis), m.
+  Vec3 lo = pos.back(), hi = pos.back();
+  for (int k = steps - 120; k < steps; ++k) {
+    lo = lo.cwiseMin(pos[k]);
+    hi = hi.cwiseMax(pos[k]);
+  }
+  const Real extent = (hi - lo).maxCoeff();
   const xpbd::Strain strain = xpbd::distance_strain(xw.model(id), xw.state(id));
-  std::printf("ball centre - cloth below: min %.4g m (radius %.3g); displacement over the last "
-              "second %.3g m; final centre (%.4g %.4g %.4g); edge strain max %.3g mean %.3g\n",
-              worst, R, mean_speed, pos.back().x(), pos.back().y(), pos.back().z(), strain.max,
+  std::printf("ball centre - cloth below: min %.4g m (radius %.3g); extent of its motion over the "
+              "last 2 s %.3g m; final centre (%.4g %.4g %.4g); edge strain max %.3g mean %.3g\n",
+              worst, R, extent, pos.back().x(), pos.back().y(), pos.back().z(), strain.max,
               strain.mean);
   // No tunnelling: the ball's centre never gets below the cloth surface
   // under it.
   EXPECT_GT(worst, 0);
-  // At rest: less than 1 cm of travel over the last second, i.e. a mean
-  // speed below 1% of the impact speed sqrt(2 g drop) = 1.4 m/s. (Bullet's
+  // At rest: over the last 2 s of 15 the centre stays inside a 1 cm box
+  // (a mean speed below 0.5% of the impact speed sqrt(2 g drop) = 1.4 m/s).
+  // Two seconds because the ball and the cloth settle through a slow
+  // vertical oscillation (period ~3 s, measured) that one second samples at
+  // an arbitrary phase: at 10 s the float build still moved 1.3 cm in the
+  // last second, the double build 0.6 cm. (Bullet's
   // step-end velocity is not used: with gravity applied once per step and
   // the contact correcting it over the substeps, a resting body ends each
   // step with the velocity of the last substep, a fraction of g dt = 0.16
   // m/s; see docs/bullet-bridge.md.)
-  EXPECT_LT(mean_speed, Real(0.01));
+  EXPECT_LT(extent, Real(0.01));
 }
 
 }  // namespace
