@@ -86,6 +86,7 @@ struct Cli {
   std::vector<std::string> sets;
   std::string export_format;  // "", obj, vtk
   bool preview = true;
+  bool stages = false;  // --stages: per-stage time breakdown (xpbd/pbd runs)
 };
 
 // The scene named on the command line: a file if it names one (or ends in
@@ -204,6 +205,16 @@ void print_header() {
               "strain max", "strain mean", "penetr. m", "finite");
 }
 
+// --stages: ms per frame of every stage the run used (docs/stages.md).
+void print_stages(const RunResult& r) {
+  if (r.stage_ms_per_frame.empty()) return;
+  std::printf("\nstage times, %s %d x %d (ms per frame, mean over %d frames):\n", solver_name(r.options.solver),
+              r.options.substeps, r.options.iterations, r.frames_completed);
+  for (const auto& [name, ms] : r.stage_ms_per_frame)
+    std::printf("  %-24s %10.4f %6.1f%%\n", name.c_str(), ms, r.wall_ms_mean > 0 ? 100 * ms / r.wall_ms_mean : 0.0);
+  std::printf("  %-24s %10.4f\n", "total (wall_ms mean)", r.wall_ms_mean);
+}
+
 std::string fmt_ratio(double num, double den) {
   if (!(den > 0) || !std::isfinite(num / den)) return "n/a";
   char b[32];
@@ -221,6 +232,7 @@ int run(const Cli& cli) {
   if (cli.iterations) base.iterations = *cli.iterations;
   if (cli.frames) base.frames = *cli.frames;
   if (cli.dt) base.dt = static_cast<xpbd::Real>(*cli.dt);
+  base.stage_times = cli.stages;
 
   // The runs: solver, budget split, output folder. The comparison spends the
   // same budget (projections per frame) four ways: XPBD as the scene says
@@ -270,6 +282,7 @@ int run(const Cli& cli) {
   print_header();
   for (const RunOutput& o : outs) print_run(o);
   for (const std::string& s : skipped) std::printf("skipped %s\n", s.c_str());
+  for (const RunOutput& o : outs) print_stages(o.result);
   if (comparison && outs.size() == 4) {
     std::printf("\nbtSoftBody / XPBD at the same budget:\n");
     const RunResult& x = outs[0].result;
@@ -327,6 +340,8 @@ int main(int argc, char** argv) {
   app.add_option("--export", cli.export_format, "also write every frame as obj (Blender) or vtk (ParaView)")
       ->check(CLI::IsMember({"obj", "vtk"}));
   app.add_flag("!--no-preview", cli.preview, "do not render preview.png");
+  app.add_flag("--stages", cli.stages,
+               "time every solver stage and print ms per frame per stage (xpbd/pbd; docs/stages.md)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -329,6 +329,8 @@ class SoftSim {
   virtual std::span<const Vec3> x() = 0;
   virtual std::span<const Vec3> v() = 0;
   virtual long long projections_per_frame() const = 0;
+  // The stage breakdown so far (RunOptions::stage_times), or nullptr.
+  virtual const xpbd_bullet::SystemTimes* times() const { return nullptr; }
 };
 
 class XpbdSim : public SoftSim {
@@ -351,6 +353,8 @@ class XpbdSim : public SoftSim {
     s.contacts.restitution = c.restitution;
     s.contacts.compliance = c.compliance;
     s.contacts.feature_spacing = c.feature_spacing;
+    timing_ = opt.stage_times;
+    if (timing_) s.times = &times_;
     projections_ = static_cast<long long>(opt.substeps) * opt.iterations * constraint_elements(*model);
     xpbd::State state = xpbd::make_state(*model);
     id_ = world_.add_system(model, std::move(state), s);
@@ -370,10 +374,13 @@ class XpbdSim : public SoftSim {
   std::span<const Vec3> x() override { return world_.state(id_).x; }
   std::span<const Vec3> v() override { return world_.state(id_).v; }
   long long projections_per_frame() const override { return projections_; }
+  const xpbd_bullet::SystemTimes* times() const override { return timing_ ? &times_ : nullptr; }
 
  private:
   RigidWorld& rw_;
   Real dt_;
+  bool timing_ = false;
+  xpbd_bullet::SystemTimes times_;  // before world_: outlives the system
   xpbd_bullet::XpbdWorld world_;  // removes its action from the world when destroyed
   int id_ = 0;
   long long projections_ = 0;
@@ -503,6 +510,28 @@ class BulletSim : public SoftSim {
   std::vector<Vec3> x_, v_;
   long long projections_ = 0;
 };
+
+// ms per frame of every stage with work (SystemTimes order: xpbd::step()'s
+// stages, then the bridge's), and "other" = the frames' stepping time not in
+// any stage. frame_ms: the wall time of every completed frame.
+std::vector<std::pair<std::string, double>> stage_breakdown(const xpbd_bullet::SystemTimes& t,
+                                                            const std::vector<double>& frame_ms) {
+  const double frames = double(frame_ms.size());
+  std::vector<std::pair<std::string, double>> out;
+  double staged = 0;
+  auto add = [&](const char* name, std::int64_t ns, std::int64_t calls) {
+    if (calls == 0) return;  // no work: not part of this scene's cost
+    const double ms = double(ns) * 1e-6 / frames;
+    out.emplace_back(name, ms);
+    staged += ms;
+  };
+  for (std::size_t k = 0; k < xpbd::stage::count; ++k) add(xpbd::stage_name(k), t.step.ns[k], t.step.calls[k]);
+  for (std::size_t k = 0; k < xpbd_bullet::SystemTimes::count; ++k)
+    add(xpbd_bullet::SystemTimes::name(k), t.ns[k], t.calls[k]);
+  const double total = std::accumulate(frame_ms.begin(), frame_ms.end(), 0.0) / frames;
+  out.emplace_back("other", total - staged);  // stages nest inside the frame: >= 0
+  return out;
+}
 
 void finish(RunResult& r) {
   if (!r.frame_ms.empty()) {
@@ -653,6 +682,11 @@ RunResult run_scene(const SceneSpec& spec, const ExpandedSoft& soft, const RunOp
     report(f, ok);
   }
   finish(r);
+  if (const xpbd_bullet::SystemTimes* t = sim->times(); t && !r.frame_ms.empty())
+    r.stage_ms_per_frame = stage_breakdown(*t, r.frame_ms);
+  else if (bullet && opt.stage_times)
+    r.notes.push_back("stage_times: not available for btSoftBody (it has no per-stage hooks); "
+                      "only wall_ms_per_frame is measured");
   return r;
 }
 
@@ -696,6 +730,11 @@ nlohmann::json to_json(const RunResult& r) {
             {"notes", r.notes},
             {"per_frame", frames}};
   if (r.particle_collision) j["min_particle_distance"] = opt_num(r.min_particle_distance);
+  if (!r.stage_ms_per_frame.empty()) {
+    json stages = json::object();
+    for (const auto& [name, ms] : r.stage_ms_per_frame) stages[name] = ms;
+    j["stage_ms_per_frame"] = std::move(stages);
+  }
   return j;
 }
 

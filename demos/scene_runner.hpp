@@ -21,6 +21,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -42,6 +43,10 @@ struct RunOptions {
   // (m). 0 = automatic: min(0.25 m, thinnest rigid feature / 4) (see
   // "The SDF voxel" in docs/metrics.md).
   xpbd::Real bullet_sdf_voxel = 0;
+  // xpbd/pbd only: collect the per-stage wall-clock breakdown
+  // (RunResult::stage_ms_per_frame, docs/stages.md). Ignored by bullet runs
+  // (btSoftBody has no per-stage hooks; the run gets a note saying so).
+  bool stage_times = false;
 };
 
 // spec.solver's method, dt, substeps, iterations and frames.
@@ -102,6 +107,12 @@ struct RunResult {
   std::vector<FrameMetrics> series;  // frames_completed + 1 entries, entry 0 = initial state
   nlohmann::json solver_settings;    // what the solver was configured with
   std::vector<std::string> notes;    // differences between solvers worth knowing
+  // With RunOptions::stage_times (xpbd/pbd): ms per frame (mean over the
+  // completed frames) of every stage that had work, in the order they run
+  // (xpbd/profile.hpp, xpbd_bullet::SystemTimes), then "other": the rest of
+  // the frames' stepping time (Bullet's rigid-body step and glue). Empty
+  // otherwise.
+  std::vector<std::pair<std::string, double>> stage_ms_per_frame;
 };
 
 // Runs the scene. Relative file paths (OBJ generators, mesh shapes) are

@@ -382,6 +382,11 @@ void XpbdWorld::updateAction(btCollisionWorld*, btScalar dt) {
   shadows_.clear();
   for (auto& s : systems_) step_system(*s, dt);
   // Coupling: hand the velocity and position changes to the dynamic bodies.
+  // Timed only if a system asks for it (SystemTimes, "coupling").
+  const bool timing = !shadows_.empty() && std::any_of(systems_.begin(), systems_.end(), [](const auto& s) {
+                        return s->settings.times != nullptr;
+                      });
+  const auto t0 = timing ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
   for (Shadow& sh : shadows_) {
     btRigidBody* rb = sh.dynamic;
     if (!rb) continue;
@@ -398,6 +403,11 @@ void XpbdWorld::updateAction(btCollisionWorld*, btScalar dt) {
     t.setRotation(to_bt(sh.dq * to_quat(t.getRotation())).normalized());
     rb->setCenterOfMassTransform(t);
     rb->activate(true);
+  }
+  if (timing) {
+    const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0).count();
+    for (auto& s : systems_)
+      if (s->settings.times && !s->shadow_of_body.empty()) s->settings.times->ns[SystemTimes::coupling] += ns;
   }
 }
 
@@ -531,13 +541,16 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
   st.attachments.clear();
   st.triangle_contacts.clear();
   s.shadow_of_body.clear();
+  SystemTimes* const times = set.times;  // opt-in timing (nullptr: none)
 
   // Attachments whose body is still in the world.
-  for (const Attachment& a : attachments_) {
-    if (a.system != s.id || !in_world(world_, a.body)) continue;
-    const Index b = body_index(s, a.body, dt);
-    st.attachments.push_back(xpbd::BodyAttachment{a.particle, b, to_vec(a.local), a.compliance});
-  }
+  xpbd::timed(times, SystemTimes::shadows, !attachments_.empty(), [&] {
+    for (const Attachment& a : attachments_) {
+      if (a.system != s.id || !in_world(world_, a.body)) continue;
+      const Index b = body_index(s, a.body, dt);
+      st.attachments.push_back(xpbd::BodyAttachment{a.particle, b, to_vec(a.local), a.compliance});
+    }
+  });
 
   // Contacts: candidates over the AABB of the particles swept over the step.
   if (cs.enabled && n > 0) {
@@ -644,10 +657,14 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
     }
     stats_.contacts += static_cast<int>(st.contacts.size());
     if (!m.collision_triangles.empty()) find_triangle_contacts(s, dt, lo, hi);
-    stats_.contact_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const auto t1 = std::chrono::steady_clock::now();
+    stats_.contact_seconds += std::chrono::duration<double>(t1 - t0).count();
+    if (times) {
+      times->ns[SystemTimes::contacts] += std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count();
+      ++times->calls[SystemTimes::contacts];
+    }
   }
 
-  // Bodies moved without any contact: the reference the changes are taken from.
   xpbd::StepConfig cfg;
   cfg.dt = dt;
   cfg.substeps = set.substeps;
@@ -656,25 +673,32 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
   cfg.drag = set.drag;
   cfg.alternate_sweeps = set.alternate_sweeps;
   cfg.gravity = to_vec(world_.getGravity());
-  s.free_bodies = st.bodies;
-  const Real h = dt / Real(set.substeps);
-  for (int k = 0; k < set.substeps; ++k) {
-    xpbd::rigid::predict_bodies(s.free_bodies, h);
-    xpbd::rigid::update_body_velocities(s.free_bodies, h);
-  }
+  cfg.times = times ? &times->step : nullptr;
+  // Bodies moved without any contact: the reference the changes are taken from.
+  xpbd::timed(times, SystemTimes::shadows, !st.bodies.empty(), [&] {
+    s.free_bodies = st.bodies;
+    const Real h = dt / Real(set.substeps);
+    for (int k = 0; k < set.substeps; ++k) {
+      xpbd::rigid::predict_bodies(s.free_bodies, h);
+      xpbd::rigid::update_body_velocities(s.free_bodies, h);
+    }
+  });
 
   xpbd::step(m, st, cfg);
 
-  for (std::size_t i = 0; i < st.bodies.size(); ++i) {
-    Shadow& sh = shadows_[s.shadow_of_body[i]];
-    if (!sh.dynamic) continue;
-    const xpbd::RigidBody& b = st.bodies[i];
-    const xpbd::RigidBody& f = s.free_bodies[i];
-    sh.dv += b.v - f.v;
-    sh.dw += b.w - f.w;
-    sh.dx += b.x - f.x;
-    sh.dq = (b.q * f.q.conjugate()) * sh.dq;
-  }
+  // This system's share of the body velocity and position changes.
+  xpbd::timed(times, SystemTimes::coupling, !st.bodies.empty(), [&] {
+    for (std::size_t i = 0; i < st.bodies.size(); ++i) {
+      Shadow& sh = shadows_[s.shadow_of_body[i]];
+      if (!sh.dynamic) continue;
+      const xpbd::RigidBody& b = st.bodies[i];
+      const xpbd::RigidBody& f = s.free_bodies[i];
+      sh.dv += b.v - f.v;
+      sh.dw += b.w - f.w;
+      sh.dx += b.x - f.x;
+      sh.dq = (b.q * f.q.conjugate()) * sh.dq;
+    }
+  });
 }
 
 }  // namespace xpbd_bullet

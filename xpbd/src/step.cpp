@@ -78,20 +78,23 @@ void reset_multipliers(State& s) {
   std::fill(s.self_collision.lambda.begin(), s.self_collision.lambda.end(), Real(0));
 }
 
-// One Gauss-Seidel sweep over every constraint type, in ConstraintTypes order.
-void solve_constraints(const Model& m, State& s, const SolveContext& sc) {
+// One Gauss-Seidel sweep over every constraint type, in ConstraintTypes order
+// (each type with elements is a stage of its own in StepConfig::times).
+void solve_constraints(const Model& m, State& s, const SolveContext& sc, StageTimes* times) {
   for_each_constraint_type([&]<class T>(std::type_identity<T>) {
     const auto& cs = m.get<T>();
     if (cs.empty()) return;
-    if constexpr (!is_generic_constraint_v<T>) {
-      solve_global_volumes(m, s, sc);  // GlobalVolume: variable arity, own kernel
-    } else {
-      std::span<const T> span(cs);
-      if (m.has_damping[type_index_v<T>])
-        project_all<T, true>(span, s.lambdas<T>(), sc);
-      else
-        project_all<T, false>(span, s.lambdas<T>(), sc);
-    }
+    timed(times, stage::of<T>, true, [&] {
+      if constexpr (!is_generic_constraint_v<T>) {
+        solve_global_volumes(m, s, sc);  // GlobalVolume: variable arity, own kernel
+      } else {
+        std::span<const T> span(cs);
+        if (m.has_damping[type_index_v<T>])
+          project_all<T, true>(span, s.lambdas<T>(), sc);
+        else
+          project_all<T, false>(span, s.lambdas<T>(), sc);
+      }
+    });
   });
 }
 
@@ -119,15 +122,21 @@ void validate(const StepConfig& cfg) {
 }
 
 void step(const Model& m, State& s, const StepConfig& cfg) {
-  validate(cfg);
-  check_state_matches(m, s);
-  // Per-step constraint data: the side each penetration point starts on.
-  begin_step_constraints(m, s);
-  // Host-supplied rigid bodies, contacts and attachments: checked and sized.
-  rigid::begin_step(m, s);
+  // Each stage runs inside timed(t, stage, has_work, ...) (profile.hpp),
+  // which only times it when cfg.times is set and the stage has work.
+  StageTimes* const t = cfg.times;
+  timed(t, stage::step_setup, true, [&] {
+    validate(cfg);
+    check_state_matches(m, s);
+    // Per-step constraint data: the side each penetration point starts on.
+    begin_step_constraints(m, s);
+    // Host-supplied rigid bodies, contacts and attachments: checked and sized.
+    rigid::begin_step(m, s);
+  });
   // Opt-in particle-particle collision: candidate pairs within the contact
   // distance plus the step's travel, from a spatial hash (spatial_hash.hpp).
-  find_self_collisions(m, s, cfg);
+  timed(t, stage::self_collision_search, m.self_collision.enabled,
+        [&] { find_self_collisions(m, s, cfg); });
   const Real h = cfg.dt / Real(cfg.substeps);
 
   SolveContext sc;
@@ -142,37 +151,46 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
   sc.eval.penetration_side = s.penetration_side.data();
 
   for (int sub = 0; sub < cfg.substeps; ++sub) {
-    // 1. Move kinematic targets to where they are at the end of this substep.
-    interpolate_pin_targets(s, Real(sub + 1) / Real(cfg.substeps));
-    // 2. Predict: external forces and inertia; rigid bodies move with their velocity.
-    predict(m, s, cfg, h);
-    // After predict: restitution's reference is the normal velocity with
-    // this substep's gravity included (Mueller et al. 2020), not before it.
-    rigid::begin_substep(m, s);
-    rigid::predict_bodies(s.bodies, h);
-    // 3. Solve: lambda starts at zero every substep (Algorithm 2, line 6),
-    //    then `iterations` Gauss-Seidel sweeps over all constraints.
-    reset_multipliers(s);
+    timed(t, stage::predict, true, [&] {
+      // 1. Move kinematic targets to where they are at the end of this substep.
+      interpolate_pin_targets(s, Real(sub + 1) / Real(cfg.substeps));
+      // 2. Predict: external forces and inertia; rigid bodies move with their velocity.
+      predict(m, s, cfg, h);
+      // After predict: restitution's reference is the normal velocity with
+      // this substep's gravity included (Mueller et al. 2020), not before it.
+      rigid::begin_substep(m, s);
+      rigid::predict_bodies(s.bodies, h);
+      // Lambda starts at zero every substep (Algorithm 2, line 6).
+      reset_multipliers(s);
+    });
+    // 3. Solve: `iterations` Gauss-Seidel sweeps over all constraints.
     for (int it = 0; it < cfg.iterations; ++it) {
       // StepConfig::alternate_sweeps: every other sweep, counted across
       // substeps (so that one iteration per substep alternates too), runs
       // last to first.
       sc.reverse = cfg.alternate_sweeps && ((sub * cfg.iterations + it) & 1) != 0;
-      solve_constraints(m, s, sc);
-      solve_self_collisions(m, s, sc);
-      rigid::solve_attachments(m, s, h);
-      rigid::solve_contacts(m, s, h);
-      rigid::solve_triangle_contacts(m, s);
+      solve_constraints(m, s, sc, t);
+      timed(t, stage::self_collision_solve, !s.self_collision.pairs.empty(),
+            [&] { solve_self_collisions(m, s, sc); });
+      timed(t, stage::body_attachments, !s.attachments.empty(),
+            [&] { rigid::solve_attachments(m, s, h); });
+      timed(t, stage::body_contacts, !s.contacts.empty(), [&] { rigid::solve_contacts(m, s, h); });
+      timed(t, stage::triangle_contacts, !s.triangle_contacts.empty(),
+            [&] { rigid::solve_triangle_contacts(m, s); });
     }
     // 4. Velocities from the position change.
-    update_velocities(m, s, cfg, h);
-    rigid::update_body_velocities(s.bodies, h);
+    timed(t, stage::velocity_update, true, [&] {
+      update_velocities(m, s, cfg, h);
+      rigid::update_body_velocities(s.bodies, h);
+    });
     // 5. Contact friction and restitution on the new velocities.
-    rigid::contact_velocities(m, s, h, cfg.gravity.norm());
+    timed(t, stage::contact_velocities, !s.contacts.empty(),
+          [&] { rigid::contact_velocities(m, s, h, cfg.gravity.norm()); });
   }
   s.pin_target_prev = s.pin_target;  // same size: no allocation
   s.time += cfg.dt;
   s.last_substep = h;
+  if (t != nullptr) ++t->steps;
 }
 
 }  // namespace xpbd

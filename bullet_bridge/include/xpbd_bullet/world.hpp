@@ -34,10 +34,14 @@
 // an attachment still names it (remove_attachment first).
 #include <btBulletDynamicsCommon.h>
 
+#include <array>
+#include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
 #include "xpbd/model.hpp"
+#include "xpbd/profile.hpp"
 #include "xpbd/state.hpp"
 #include "xpbd/step.hpp"
 
@@ -71,6 +75,31 @@ struct ContactSettings {
   bool cull = true;
 };
 
+// Opt-in wall-clock breakdown of one system's steps (SystemSettings::times,
+// docs/stages.md): the stages inside xpbd::step() and the bridge's own, in
+// ns (std::chrono::steady_clock) and runs, summed over internal steps. As in
+// xpbd::StageTimes, a stage without work is neither timed nor counted.
+struct SystemTimes {
+  xpbd::StageTimes step;  // inside xpbd::step() (xpbd/profile.hpp)
+  // The bridge's stages:
+  //   contacts  broadphase, culling, narrowphase, triangle contacts, and the
+  //             shadow bodies of the bodies touched (when contacts are enabled);
+  //   shadows   the attachments' shadow bodies and the bodies' contact-free
+  //             reference motion (when the system has bodies);
+  //   coupling  shadow changes -> impulses and position corrections on the
+  //             dynamic bodies (when there are bodies; the per-body impulse
+  //             application is shared by all systems, and its time is added
+  //             to every timed system with bodies).
+  enum Stage : std::size_t { contacts, shadows, coupling, count };
+  std::array<std::int64_t, count> ns{};     // ns
+  std::array<std::int64_t, count> calls{};  // runs with work
+  static const char* name(std::size_t k) {
+    constexpr std::array<const char*, count> names = {"bridge_contacts", "bridge_shadows",
+                                                      "bridge_coupling"};
+    return k < count ? names[k] : "?";
+  }
+};
+
 struct SystemSettings {
   int substeps = 10;    // XPBD substeps per Bullet internal step (>= 1)
   int iterations = 1;   // Gauss-Seidel sweeps per substep (>= 1)
@@ -78,6 +107,10 @@ struct SystemSettings {
   xpbd::Real drag = 0;  // 1/s
   bool alternate_sweeps = false;  // xpbd::StepConfig::alternate_sweeps
   ContactSettings contacts;
+  // Opt-in timing: when set, every step of the system adds its stage times
+  // to *times (which must outlive the system or be reset to nullptr).
+  // nullptr = no timing.
+  SystemTimes* times = nullptr;
 };
 
 // Statistics of the last internal step, for tests and benchmarks.

@@ -1,5 +1,6 @@
 #pragma once
 #include "xpbd/model.hpp"
+#include "xpbd/profile.hpp"
 #include "xpbd/state.hpp"
 
 namespace xpbd {
@@ -26,6 +27,10 @@ struct StepConfig {
   // on chains and hanging cloth pinned at the end solved first (measured:
   // Fig. 5's XPBD strain at 5 iterations rose from below 1% to 4%).
   bool alternate_sweeps = false;
+  // Opt-in per-stage wall-clock breakdown (profile.hpp): when set, step()
+  // adds each stage's time to *times. nullptr (default) = no timing. Does not
+  // change the result: the trajectory is the same bit for bit.
+  StageTimes* times = nullptr;
 };
 
 // Advances `state` by cfg.dt:
