@@ -1,0 +1,369 @@
+#include "demos/compare/compare.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "demos/builtin_scenes.hpp"
+#include "demos/scene_file.hpp"
+
+namespace xpbd_compare {
+
+using xpbd_demos::SceneSpec;
+
+std::vector<Budget> sweep_budgets(bool quick) {
+  if (quick) return {{1, 1}, {5, 1}, {1, 5}};
+  std::vector<Budget> b;
+  for (int s : {1, 2, 5, 10, 20, 50, 100}) b.push_back({s, 1});
+  for (int i : {2, 5, 10, 20, 50, 100}) b.push_back({1, i});
+  for (Budget m : {Budget{2, 5}, Budget{5, 2}, Budget{5, 5}, Budget{10, 2}, Budget{10, 5}, Budget{20, 5}})
+    b.push_back(m);
+  return b;
+}
+
+// ---------------------------------------------------------------------------
+// The chain.
+
+SceneSpec chain_scene(const ChainParams& p, int frames) {
+  SceneSpec s;
+  s.name = "hanging_chain";
+  s.description = "vertical chain of 20 particles of 1 kg, 1 cm links, pinned at the top (support force 190 N)";
+  xpbd::RopeDesc r;
+  r.n = p.n;
+  r.start = p.top;
+  r.dir = -Vec3::UnitY();
+  r.spacing = p.spacing;
+  r.mass = p.mass;
+  r.pin_first = true;
+  r.mat.compliance = p.compliance;
+  s.soft.generators.push_back(r);
+  s.solver.gravity = Vec3(0, -p.g, 0);
+  s.solver.drag = p.drag;
+  s.solver.frames = frames;
+  return s;
+}
+
+std::vector<Vec3> chain_equilibrium(const ChainParams& p) {
+  std::vector<Vec3> x(static_cast<std::size_t>(p.n));
+  x[0] = p.top;
+  for (int k = 0; k + 1 < p.n; ++k) {
+    // Link k carries the n-1-k particles below it.
+    const double tension = double(p.n - 1 - k) * double(p.mass) * double(p.g);
+    const double len = double(p.spacing) + double(p.compliance) * tension;
+    x[k + 1] = x[k] - Vec3::UnitY() * Real(len);
+  }
+  return x;
+}
+
+double chain_support_force(const ChainParams& p) { return double(p.n - 1) * double(p.mass) * double(p.g); }
+
+double support_force_from_positions(std::span<const Vec3> x, const ChainParams& p) {
+  if (x.size() < 2) throw std::invalid_argument("support_force_from_positions: need >= 2 particles");
+  const double len = (x[1] - x[0]).template cast<double>().norm();
+  return (len - double(p.spacing)) / double(p.compliance);
+}
+
+// ---------------------------------------------------------------------------
+// Scenes.
+
+std::vector<CompareScene> compare_scenes(bool quick) {
+  const int frames = quick ? 30 : 120;  // 2 s at 60 Hz (quick: 0.5 s)
+  std::vector<CompareScene> v;
+  auto builtin = [&](const char* name) {
+    const SceneSpec* s = xpbd_demos::find_builtin_scene(name);
+    if (!s) throw std::logic_error(std::string("compare_scenes: no built-in scene ") + name);
+    SceneSpec c = *s;
+    c.solver.frames = frames;
+    return c;
+  };
+  v.push_back({"hanging_cloth_32", builtin("hanging_cloth"), std::nullopt});
+  {
+    SceneSpec c = xpbd_demos::apply_sets(builtin("hanging_cloth"),
+                                         {"soft.generators.0.cloth.nx=64", "soft.generators.0.cloth.ny=64",
+                                          "soft.generators.0.cloth.pinned=[[0,0],[63,0]]"},
+                                         "compare");
+    c.name = "hanging_cloth_64";
+    v.push_back({"hanging_cloth_64", c, std::nullopt});
+  }
+  v.push_back({"cloth_on_sphere", builtin("cloth_on_sphere"), std::nullopt});
+  {
+    ChainParams p;
+    v.push_back({"hanging_chain", chain_scene(p, frames), p});
+  }
+  v.push_back({"trampoline", builtin("trampoline"), std::nullopt});
+  {
+    // A 0.2 m soft cube of tetrahedra (4x4x4 cells, 1 kg, bulk modulus
+    // 1 MPa, edges 1e-6 m/N) dropped from 5 cm onto a ground plane.
+    SceneSpec s;
+    s.name = "soft_cube";
+    s.description = "0.2 m tetrahedral soft cube dropped from 5 cm onto a ground plane";
+    xpbd::TetBoxDesc c;
+    c.nx = c.ny = c.nz = 4;
+    c.size = Vec3::Constant(Real(0.2));
+    c.origin = Vec3(Real(-0.1), Real(0.05), Real(-0.1));
+    c.mass = 1;
+    c.bulk_modulus = Real(1e6);
+    c.edge_mat.compliance = Real(1e-6);
+    s.soft.generators.push_back(c);
+    xpbd_demos::RigidSpec g;
+    g.name = "ground";
+    g.shape.kind = xpbd_demos::ShapeKind::plane;
+    g.shape.normal = Vec3::UnitY();
+    s.bodies.push_back(g);
+    s.solver.frames = frames;
+    v.push_back({"soft_cube", s, std::nullopt});
+  }
+  return v;
+}
+
+// ---------------------------------------------------------------------------
+
+PositionError position_error(std::span<const Vec3> a, std::span<const Vec3> b) {
+  if (a.size() != b.size())
+    throw std::invalid_argument("position_error: " + std::to_string(a.size()) + " vs " +
+                                std::to_string(b.size()) + " particles");
+  PositionError e;
+  if (a.empty()) return e;
+  double sum = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const double d = (a[i].template cast<double>() - b[i].template cast<double>()).norm();
+    if (!std::isfinite(d)) return {std::nan(""), std::nan("")};
+    sum += d * d;
+    e.max = std::max(e.max, d);
+  }
+  e.rms = std::sqrt(sum / double(a.size()));
+  return e;
+}
+
+std::vector<int> sample_frames(int frames, int every) {
+  std::vector<int> f;
+  for (int k = every; k < frames; k += every) f.push_back(k);
+  f.push_back(frames);
+  return f;
+}
+
+// ---------------------------------------------------------------------------
+// CSV.
+
+namespace {
+
+const char* kColumns[] = {"scene", "method", "scalar", "substeps", "iterations", "frames",
+                          "frames_completed", "status", "particles", "projections_per_frame",
+                          "wall_ms_median", "wall_ms_mean", "err_rms_final", "err_max_final",
+                          "err_rms_worst", "err_max_worst", "err_series", "max_strain",
+                          "mean_strain", "max_penetration", "energy_drift", "support_force", "note"};
+constexpr std::size_t kNumColumns = sizeof(kColumns) / sizeof(kColumns[0]);
+
+std::string num(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  std::ostringstream o;
+  o.precision(9);
+  o << v;
+  return o.str();
+}
+
+std::string quote(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) {
+    if (c == '"') q += '"';
+    q += c == '\n' ? ' ' : c;
+  }
+  return q + "\"";
+}
+
+std::vector<std::string> split_csv(const std::string& line) {
+  std::vector<std::string> out;
+  std::string cur;
+  bool in_q = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (in_q) {
+      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
+        cur += '"';
+        ++i;
+      } else if (c == '"') {
+        in_q = false;
+      } else {
+        cur += c;
+      }
+    } else if (c == '"') {
+      in_q = true;
+    } else if (c == ',') {
+      out.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  out.push_back(cur);
+  return out;
+}
+
+double to_d(const std::string& s, const std::string& where) {
+  if (s == "nan" || s.empty()) return std::nan("");
+  if (s == "inf") return std::numeric_limits<double>::infinity();
+  if (s == "-inf") return -std::numeric_limits<double>::infinity();
+  std::size_t pos = 0;
+  double v = 0;
+  try {
+    v = std::stod(s, &pos);
+  } catch (const std::exception&) {
+    pos = 0;
+  }
+  if (pos != s.size()) throw std::runtime_error(where + ": not a number: \"" + s + "\"");
+  return v;
+}
+
+long long to_ll(const std::string& s, const std::string& where) {
+  std::size_t pos = 0;
+  long long v = 0;
+  try {
+    v = std::stoll(s, &pos);
+  } catch (const std::exception&) {
+    pos = 0;
+  }
+  if (pos != s.size() || s.empty()) throw std::runtime_error(where + ": not an integer: \"" + s + "\"");
+  return v;
+}
+
+}  // namespace
+
+std::string Row::key() const {
+  return scene + "/" + method + "/" + std::to_string(substeps) + "x" + std::to_string(iterations);
+}
+
+std::optional<double> rms_error_at(const Row& r, double t) {
+  std::istringstream in(r.err_series);
+  std::string item;
+  while (std::getline(in, item, ';')) {
+    const auto a = item.find(':');
+    const auto b = item.find(':', a == std::string::npos ? a : a + 1);
+    if (a == std::string::npos || b == std::string::npos) continue;
+    try {
+      if (std::abs(std::stod(item.substr(0, a)) - t) <= 1e-6) return std::stod(item.substr(a + 1, b - a - 1));
+    } catch (const std::exception&) {
+      // "inf" and "nan" parse; anything else is not a series entry
+    }
+  }
+  return std::nullopt;
+}
+
+const char* csv_header() {
+  static const std::string h = [] {
+    std::string s;
+    for (std::size_t i = 0; i < kNumColumns; ++i) s += (i ? "," : "") + std::string(kColumns[i]);
+    return s;
+  }();
+  return h.c_str();
+}
+
+std::string to_csv(const Row& r) {
+  std::ostringstream o;
+  o << quote(r.scene) << ',' << quote(r.method) << ',' << quote(r.scalar) << ',' << r.substeps << ','
+    << r.iterations << ',' << r.frames << ',' << r.frames_completed << ',' << quote(r.status) << ','
+    << r.particles << ',' << r.projections_per_frame << ',' << num(r.wall_ms_median) << ','
+    << num(r.wall_ms_mean) << ',' << num(r.err_rms_final) << ',' << num(r.err_max_final) << ','
+    << num(r.err_rms_worst) << ',' << num(r.err_max_worst) << ',' << quote(r.err_series) << ','
+    << num(r.max_strain) << ',' << num(r.mean_strain) << ',' << num(r.max_penetration) << ','
+    << num(r.energy_drift) << ',' << num(r.support_force) << ',' << quote(r.note);
+  return o.str();
+}
+
+std::vector<Row> read_csv(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open");
+  std::vector<Row> rows;
+  std::string line;
+  int ln = 0;
+  while (std::getline(in, line)) {
+    ++ln;
+    if (line.empty()) continue;
+    const std::string where = path + ":" + std::to_string(ln);
+    if (ln == 1) {
+      if (line != csv_header()) throw std::runtime_error(where + ": header is not the xpbd-compare header");
+      continue;
+    }
+    const auto f = split_csv(line);
+    if (f.size() != kNumColumns)
+      throw std::runtime_error(where + ": " + std::to_string(f.size()) + " fields, expected " +
+                               std::to_string(kNumColumns) + " (a truncated last line? delete it)");
+    Row r;
+    std::size_t i = 0;
+    r.scene = f[i++];
+    r.method = f[i++];
+    r.scalar = f[i++];
+    r.substeps = int(to_ll(f[i++], where + " substeps"));
+    r.iterations = int(to_ll(f[i++], where + " iterations"));
+    r.frames = int(to_ll(f[i++], where + " frames"));
+    r.frames_completed = int(to_ll(f[i++], where + " frames_completed"));
+    r.status = f[i++];
+    r.particles = int(to_ll(f[i++], where + " particles"));
+    r.projections_per_frame = to_ll(f[i++], where + " projections_per_frame");
+    r.wall_ms_median = to_d(f[i++], where + " wall_ms_median");
+    r.wall_ms_mean = to_d(f[i++], where + " wall_ms_mean");
+    r.err_rms_final = to_d(f[i++], where + " err_rms_final");
+    r.err_max_final = to_d(f[i++], where + " err_max_final");
+    r.err_rms_worst = to_d(f[i++], where + " err_rms_worst");
+    r.err_max_worst = to_d(f[i++], where + " err_max_worst");
+    r.err_series = f[i++];
+    r.max_strain = to_d(f[i++], where + " max_strain");
+    r.mean_strain = to_d(f[i++], where + " mean_strain");
+    r.max_penetration = to_d(f[i++], where + " max_penetration");
+    r.energy_drift = to_d(f[i++], where + " energy_drift");
+    r.support_force = to_d(f[i++], where + " support_force");
+    r.note = f[i++];
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+// ---------------------------------------------------------------------------
+// Pareto fronts.
+
+std::vector<Point> pareto_front(std::vector<Point> pts) {
+  std::erase_if(pts, [](const Point& p) {
+    return !(std::isfinite(p.ms) && std::isfinite(p.err) && p.ms > 0 && p.err > 0);
+  });
+  std::sort(pts.begin(), pts.end(), [](const Point& a, const Point& b) {
+    return a.ms != b.ms ? a.ms < b.ms : a.err < b.err;
+  });
+  // Scanning by increasing time, a point is on the front iff its error is
+  // below every error seen so far.
+  std::vector<Point> front;
+  for (const Point& p : pts)
+    if (front.empty() || p.err < front.back().err) front.push_back(p);
+  return front;
+}
+
+namespace {
+// Linear interpolation of log(y) in log(x) between (x0, y0) and (x1, y1).
+double loglog(double x, double x0, double y0, double x1, double y1) {
+  if (x1 == x0) return y0;
+  const double t = (std::log(x) - std::log(x0)) / (std::log(x1) - std::log(x0));
+  return std::exp(std::log(y0) + t * (std::log(y1) - std::log(y0)));
+}
+}  // namespace
+
+std::optional<double> error_at_time(const std::vector<Point>& f, double ms) {
+  if (f.empty() || !(ms >= f.front().ms)) return std::nullopt;
+  if (ms >= f.back().ms) return f.back().err;
+  for (std::size_t i = 0; i + 1 < f.size(); ++i)
+    if (ms <= f[i + 1].ms) return loglog(ms, f[i].ms, f[i].err, f[i + 1].ms, f[i + 1].err);
+  return f.back().err;
+}
+
+std::optional<double> time_at_error(const std::vector<Point>& f, double err) {
+  if (f.empty() || !(err >= f.back().err)) return std::nullopt;
+  if (err >= f.front().err) return f.front().ms;
+  // Errors descend along the front.
+  for (std::size_t i = 0; i + 1 < f.size(); ++i)
+    if (err >= f[i + 1].err) return loglog(err, f[i].err, f[i].ms, f[i + 1].err, f[i + 1].ms);
+  return f.back().ms;
+}
+
+}  // namespace xpbd_compare

@@ -1,0 +1,145 @@
+#pragma once
+// The comparison harness of issue 6 (xpbd-compare, docs/results.md): the
+// benchmark scenes, the budgets, the error metrics against a reference, the
+// CSV rows (append, resume, shard, merge) and the Pareto fronts.
+//
+// Everything here is plain functions on plain data so that
+// tests/demos/test_compare.cpp can check the metrics on cases with known
+// answers; compare_main.cpp is the program around them.
+#include <cstddef>
+#include <iosfwd>
+#include <map>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "demos/scene_runner.hpp"
+#include "demos/scene_spec.hpp"
+
+namespace xpbd_compare {
+
+using xpbd::Real;
+using xpbd::Vec3;
+
+// ---------------------------------------------------------------------------
+// Budgets: substeps x iterations per frame (btSoftBody: internal steps x
+// piterations), i.e. projections per element and frame.
+struct Budget {
+  int substeps = 1;
+  int iterations = 1;
+  int per_element() const { return substeps * iterations; }
+};
+
+// The default sweep (docs/results.md lists it): s x 1 for s in
+// {1,2,5,10,20,50,100}, 1 x i for i in {2,5,10,20,50,100}, and the mixed
+// 2x5, 5x2, 5x5, 10x2, 10x5, 20x5. --quick: 1x1, 5x1, 1x5.
+std::vector<Budget> sweep_budgets(bool quick);
+
+// ---------------------------------------------------------------------------
+// The vertical hanging chain of DESIGN.md section 6: n particles of `mass`
+// (kg) `spacing` (m) apart, the top one pinned, gravity g (m/s^2) along -y,
+// links of compliance `compliance` (m/N). Its static equilibrium is closed
+// form: link k (from the top, k = 0 .. n-2) carries the weight below it,
+// T_k = (n-1-k) m g, so it is stretched to spacing + compliance T_k, and the
+// support force is T_0 = (n-1) m g (190 N for the defaults).
+struct ChainParams {
+  int n = 20;
+  Real mass = 1;            // kg per particle
+  Real spacing = Real(0.01);  // m, rest length of a link
+  Real g = 10;              // m/s^2
+  Real compliance = Real(1e-6);  // m/N
+  // m, the pinned particle. At the origin: positions near 0 keep the
+  // float build's round-off far below the links' stretch (1.9e-4 m at the top).
+  Vec3 top = Vec3::Zero();
+  // 1/s: velocity damping so that the run settles to the static state the
+  // closed form describes (the equilibrium does not depend on it).
+  Real drag = 10;
+};
+
+// The chain as a scene (a rope generator; the rope starts unstretched).
+xpbd_demos::SceneSpec chain_scene(const ChainParams& p, int frames);
+// Closed-form equilibrium positions (m), particle 0 at p.top.
+std::vector<Vec3> chain_equilibrium(const ChainParams& p);
+// Closed-form support force (N): (n-1) m g.
+double chain_support_force(const ChainParams& p);
+// The support force (N) the positions imply: the top link's tension from
+// its stretch, (|x1 - x0| - spacing) / compliance (Hooke's law of the
+// declared compliance; at equilibrium it carries the whole hanging weight).
+double support_force_from_positions(std::span<const Vec3> x, const ChainParams& p);
+
+// ---------------------------------------------------------------------------
+// The benchmark scenes.
+struct CompareScene {
+  std::string id;                 // CSV/file key, [a-z0-9_]
+  xpbd_demos::SceneSpec spec;     // frames set (spec.solver.frames)
+  std::optional<ChainParams> chain;  // set: the reference is the closed form
+};
+std::vector<CompareScene> compare_scenes(bool quick);
+
+// ---------------------------------------------------------------------------
+// Position error between two snapshots of the same particles (m): RMS and
+// maximum over particles of |a_i - b_i|. Throws std::invalid_argument if the
+// sizes differ. NaN if any position is not finite.
+struct PositionError {
+  double rms = 0;
+  double max = 0;
+};
+PositionError position_error(std::span<const Vec3> a, std::span<const Vec3> b);
+
+// The frames at which positions are compared: every `every` frames
+// (0.5 s at 60 Hz for every = 30) and the last frame.
+std::vector<int> sample_frames(int frames, int every = 30);
+
+// Positions at the sample frames of one run.
+using Snapshots = std::map<int, std::vector<Vec3>>;
+
+// ---------------------------------------------------------------------------
+// One CSV row per run (docs/results.md lists the columns).
+struct Row {
+  std::string scene, method, scalar;
+  int substeps = 0, iterations = 0, frames = 0, frames_completed = 0;
+  std::string status;  // ok | nonfinite | skipped | reference
+  int particles = 0;
+  long long projections_per_frame = 0;
+  double wall_ms_median = 0, wall_ms_mean = 0;
+  double err_rms_final = 0, err_max_final = 0;  // m, at the last frame
+  double err_rms_worst = 0, err_max_worst = 0;  // m, worst over the sample times
+  std::string err_series;                       // "t:rms:max;..." (s, m, m)
+  double max_strain = 0, mean_strain = 0, max_penetration = 0;  // 1, 1, m
+  double energy_drift = 0;    // (E_end - E_0) / (M g L), see docs/results.md
+  double support_force = 0;   // N, chain only (NaN elsewhere)
+  std::string note;
+
+  std::string key() const;  // scene/method/substeps/iterations
+};
+// The RMS error (m) at time t (s) from r.err_series (the entry whose time
+// is within 1e-6 s of t); nullopt if the series has no such entry.
+std::optional<double> rms_error_at(const Row& r, double t);
+const char* csv_header();
+std::string to_csv(const Row& r);
+// Parses a file written by to_csv (header first). Throws std::runtime_error
+// naming the file and line for a malformed line.
+std::vector<Row> read_csv(const std::string& path);
+
+// ---------------------------------------------------------------------------
+// Pareto fronts (error against ms per frame, lower is better in both).
+struct Point {
+  double ms = 0;
+  double err = 0;
+  std::string label;  // e.g. "10x2"
+};
+// The points not dominated by another (another with ms <= and err <=, one
+// strictly), sorted by ms ascending (so err descends). Points with a
+// non-finite or non-positive value are left out.
+std::vector<Point> pareto_front(std::vector<Point> pts);
+// Error at time ms on the front, linear in log-log between neighbouring
+// front points; beyond the slowest point the front's best error (more time
+// can always buy that error); below the fastest point: nullopt.
+std::optional<double> error_at_time(const std::vector<Point>& front, double ms);
+// Time to reach error err on the front, linear in log-log; above the largest
+// error the fastest point's time; below the smallest error: nullopt (not
+// reached).
+std::optional<double> time_at_error(const std::vector<Point>& front, double err);
+
+}  // namespace xpbd_compare
