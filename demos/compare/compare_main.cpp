@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "demos/compare/cheapest.hpp"
 #include "demos/compare/compare.hpp"
 #include "demos/scene_runner.hpp"
 
@@ -539,6 +540,36 @@ int cmd_report(const std::string& csv_path, const std::string& docs, const std::
       md << "\n";
     }
   }
+  // The cheapest setting meeting an error target (cheapest.hpp), for a
+  // loose and a tight target per scene: 5x and 1.5x the best error any
+  // method reached, so that the targets are reachable and the answer shows
+  // what each method pays for it.
+  md << "## Cheapest setting for an error target\n\n"
+     << "`xpbd-compare cheapest --csv docs/results.csv --scene NAME --target METRES` picks, per method, the "
+        "fastest run of the sweep whose error (the charted one) meets the target. With a base name "
+        "(`hanging_cloth`) it also chooses the resolution (32x32 or 64x64); each resolution is judged "
+        "against its own reference, so that answer is about convergence in time, not in space. Below: "
+        "targets of 5x and 1.5x the best error any method reached on the scene.\n\n"
+     << "| scene | target (m) | method | cheapest setting | ms/frame | projections/frame | error (m) |\n"
+     << "|---|---|---|---|---|---|---|\n";
+  for (const std::string& scene : scene_order) {
+    double best = std::numeric_limits<double>::infinity();
+    for (const Row& r : rows)
+      if (r.scene == scene && r.status == "ok") best = std::min(best, chart_error(r));
+    if (!std::isfinite(best) || best <= 0) continue;
+    for (double factor : {5.0, 1.5}) {
+      const double target = factor * best;
+      for (const Cheapest& c : cheapest(rows, scene, target, final_only(scene) ? 0 : error_time)) {
+        md << "| " << scene << " | " << fmt(target) << " | " << c.method << " | ";
+        if (c.row)
+          md << c.row->substeps << " x " << c.row->iterations << " | " << fmt(c.row->wall_ms_median) << " | "
+             << c.row->projections_per_frame << " | " << fmt(c.error) << " |\n";
+        else
+          md << "not reached | | | |\n";
+      }
+    }
+  }
+  md << "\n";
   const std::string md_path = docs + "/results.md";
   std::ofstream o(md_path + ".tmp");
   o << md.str();
@@ -546,6 +577,32 @@ int cmd_report(const std::string& csv_path, const std::string& docs, const std::
   std::filesystem::rename(md_path + ".tmp", md_path);
   std::cerr << "xpbd-compare report: " << md_path << ", " << scene_order.size() << " gnuplot scripts in " << gp_dir
             << "\n";
+  return 0;
+}
+
+// xpbd-compare cheapest: the cheapest setting per method meeting an error
+// target (cheapest.hpp).
+int cmd_cheapest(const std::string& csv_path, const std::string& scene, double target, double error_time) {
+  const std::vector<Row> rows = read_csv(csv_path);
+  const std::vector<Cheapest> best = cheapest(rows, scene, target, error_time);
+  if (best.empty()) {
+    std::cerr << "xpbd-compare cheapest: no runs of scene '" << scene << "' in " << csv_path << "\n";
+    return 2;
+  }
+  std::cout << "scene " << scene << ", error target " << target << " m ("
+            << (error_time > 0 && scene != "hanging_chain" ? "RMS position error at t = " + fmt(error_time) + " s"
+                                                           : std::string("RMS position error at the final frame"))
+            << "), from " << csv_path << ":\n";
+  for (const Cheapest& c : best) {
+    if (!c.row) {
+      std::cout << "  " << c.method << ": no setting in the sweep meets the target\n";
+      continue;
+    }
+    const Row& r = *c.row;
+    std::cout << "  " << c.method << ": " << r.scene << " at " << r.substeps << " x " << r.iterations << ", "
+              << r.wall_ms_median << " ms/frame, " << r.projections_per_frame << " projections/frame, error "
+              << c.error << " m\n";
+  }
   return 0;
 }
 
@@ -578,8 +635,18 @@ int main(int argc, char** argv) {
   double error_time = 0.5;
   report->add_option("--error-time", error_time,
                      "time (s) of the charted error (a sample time: 0.5, 1, 1.5, 2); <= 0: the final frame");
+  std::string cheap_scene;
+  double target = 0;
+  auto* cheap = app.add_subcommand("cheapest", "the cheapest setting per method that meets an error target");
+  cheap->add_option("--csv", csv, "CSV of the sweep")->check(CLI::ExistingFile);
+  cheap->add_option("--scene", cheap_scene,
+                    "scene name, or its base name to include every resolution (hanging_cloth)")
+      ->required();
+  cheap->add_option("--target", target, "error target (m)")->required()->check(CLI::PositiveNumber);
+  cheap->add_option("--error-time", error_time, "time (s) of the judged error; <= 0: the final frame");
   CLI11_PARSE(app, argc, argv);
   try {
+    if (*cheap) return cmd_cheapest(csv, cheap_scene, target, error_time);
     if (*run) return cmd_run(out, quick, shard, only);
     if (*merge) return cmd_merge(inputs, merged);
     return cmd_report(csv, docs, gp_dir, command, sweep_seconds, error_time);

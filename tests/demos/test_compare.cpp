@@ -13,6 +13,7 @@
 #include <limits>
 #include <vector>
 
+#include "demos/compare/cheapest.hpp"
 #include "demos/compare/compare.hpp"
 
 namespace xpbd_compare {
@@ -144,6 +145,53 @@ TEST(CompareCsv, RoundTripAndResumeKey) {
   EXPECT_DOUBLE_EQ(*rms_error_at(rows[0], 0.5), 1e-3);
   EXPECT_DOUBLE_EQ(*rms_error_at(rows[0], 2.0), 1.25e-3);
   EXPECT_FALSE(rms_error_at(rows[0], 1.0).has_value());
+}
+
+// The cheapest setting meeting a target, on hand-made rows whose answer is
+// known: the 64x64 run that meets the target is slower than a 32x32 run that
+// also meets it, a faster run misses the target, a non-finite run and the
+// reference never count, and a method with no qualifying run says so.
+TEST(CompareCheapest, PicksTheFastestRunMeetingTheTargetAcrossResolutions) {
+  auto row = [](std::string scene, std::string method, int s, int i, double ms, double err,
+                std::string status = "ok") {
+    Row r;
+    r.scene = std::move(scene);
+    r.method = std::move(method);
+    r.substeps = s;
+    r.iterations = i;
+    r.status = std::move(status);
+    r.wall_ms_median = ms;
+    r.projections_per_frame = 1000LL * s * i;
+    r.err_rms_final = err;
+    r.err_series = "0.5:" + std::to_string(err) + ":" + std::to_string(2 * err);
+    return r;
+  };
+  const std::vector<Row> rows = {
+      row("hanging_cloth_64", "xpbd", 10, 1, 2.0, 0.04),
+      row("hanging_cloth_32", "xpbd", 10, 1, 0.5, 0.05),
+      row("hanging_cloth_32", "xpbd", 5, 1, 0.3, 0.2),                 // fast, misses
+      row("hanging_cloth_32", "xpbd", 1, 1, 0.1, 0.01, "nonfinite"),   // never counts
+      row("hanging_cloth_32", "reference", 400, 5, 50, 0.0, "reference"),
+      row("hanging_cloth_64", "bullet", 10, 1, 9.0, 0.3),              // misses
+      row("other_scene", "xpbd", 1, 1, 0.01, 0.0),                     // another scene
+  };
+  const std::vector<Cheapest> c = cheapest(rows, "hanging_cloth", 0.06, 0.5);
+  ASSERT_EQ(c.size(), 2u);
+  EXPECT_EQ(c[0].method, "xpbd");
+  ASSERT_TRUE(c[0].row.has_value());
+  EXPECT_EQ(c[0].row->scene, "hanging_cloth_32");
+  EXPECT_EQ(c[0].row->substeps, 10);
+  EXPECT_DOUBLE_EQ(c[0].error, 0.05);
+  EXPECT_EQ(c[1].method, "bullet");
+  EXPECT_FALSE(c[1].row.has_value());
+  // A tighter target moves xpbd to the 64x64 run; an exact scene name keeps
+  // the other resolution out.
+  const std::vector<Cheapest> t = cheapest(rows, "hanging_cloth", 0.045, 0.5);
+  ASSERT_TRUE(t[0].row.has_value());
+  EXPECT_EQ(t[0].row->scene, "hanging_cloth_64");
+  const std::vector<Cheapest> e = cheapest(rows, "hanging_cloth_32", 0.045, 0.5);
+  ASSERT_EQ(e.size(), 1u);
+  EXPECT_FALSE(e[0].row.has_value());
 }
 
 }  // namespace
