@@ -26,6 +26,7 @@
 
 #include "demos/compare/cheapest.hpp"
 #include "demos/compare/compare.hpp"
+#include "demos/compare/stability.hpp"
 #include "demos/scene_runner.hpp"
 
 namespace {
@@ -357,6 +358,8 @@ int cmd_report(const std::string& csv_path, const std::string& docs, const std::
      << "Regenerate everything (build, sweep, CSV, charts, this page) with:\n\n"
      << "    " << command << "\n\n";
   if (sweep_seconds > 0) md << "The sweep took " << fmt(sweep_seconds, 4) << " s of wall clock on this machine.\n\n";
+  md << "Where each method fails (time step, stiffness, mass ratio, impact speed): the stability map, "
+        "[stability.md](stability.md).\n\n";
   md << "## How the runs are made\n\n"
      << "- Scenes (`demos/compare/compare.cpp`, `compare_scenes`): hanging cloth 32x32 and 64x64 (built-in "
         "`hanging_cloth`, the 64x64 one through `--set`-style overrides of nx, ny and the pinned corners), "
@@ -644,8 +647,24 @@ int main(int argc, char** argv) {
       ->required();
   cheap->add_option("--target", target, "error target (m)")->required()->check(CLI::PositiveNumber);
   cheap->add_option("--error-time", error_time, "time (s) of the judged error; <= 0: the final frame");
+  // --- stability map (demos/compare/stability.hpp, docs/stability.md) ---
+  auto* stab = app.add_subcommand("stability", "the stability map: run the sweep or draw it");
+  stab->require_subcommand(1);
+  std::string stab_csv = "docs/stability.csv", stab_shard, stab_docs = "docs", stab_gp = "build/stability";
+  bool stab_quick = false;
+  auto* stab_run = stab->add_subcommand("run", "run the stability sweep, appending to the CSV (resumes)");
+  stab_run->add_option("--out", stab_csv, "CSV file to append to");
+  stab_run->add_flag("--quick", stab_quick, "a 2x2 corner of every sweep");
+  stab_run->add_option("--shard", stab_shard, "i/n: run every n-th run of the sweep starting at i");
+  auto* stab_report = stab->add_subcommand("report", "write the gnuplot scripts and docs/stability_grids.md");
+  stab_report->add_option("--csv", stab_csv, "CSV of the sweep")->check(CLI::ExistingFile);
+  stab_report->add_option("--docs", stab_docs, "directory of the PNGs and stability_grids.md");
+  stab_report->add_option("--gp-dir", stab_gp, "where the gnuplot scripts go");
+  // --- end stability map ---
   CLI11_PARSE(app, argc, argv);
   try {
+    if (*stab_run) return xpbd_stability::cmd_run(stab_csv, stab_quick, stab_shard);
+    if (*stab_report) return xpbd_stability::cmd_report(stab_csv, stab_docs, stab_gp);
     if (*cheap) return cmd_cheapest(csv, cheap_scene, target, error_time);
     if (*run) return cmd_run(out, quick, shard, only);
     if (*merge) return cmd_merge(inputs, merged);
