@@ -48,6 +48,13 @@ bool all_finite(std::span<const Vec3> a) {
   return true;
 }
 
+// True if some component's magnitude exceeds `limit`.
+bool beyond(std::span<const Vec3> a, double limit) {
+  for (const Vec3& v : a)
+    if (double(v.cwiseAbs().maxCoeff()) > limit) return true;
+  return false;
+}
+
 // ---------------------------------------------------------------------------
 // Input checks
 
@@ -671,8 +678,15 @@ RunResult run_scene(const SceneSpec& spec, const ExpandedSoft& soft, const RunOp
       ok = sim->step_frame();
     } catch (const std::invalid_argument&) {
       // A query refusing a non-finite input (narrowphase.hpp) means the state
-      // went non-finite inside the frame; anything else is a real error.
-      if (all_finite(sim->x()) && all_finite(sim->v()) && rw.finite()) throw;
+      // went non-finite inside the frame, or blew up so far (beyond 1e30 m or
+      // m/s, where products of coordinates overflow) that a derived quantity
+      // did; anything else is a real error.
+      const bool blown_up = !all_finite(sim->x()) || !all_finite(sim->v()) || !rw.finite() ||
+                            beyond(sim->x(), 1e30) || beyond(sim->v(), 1e30);
+      if (!blown_up) throw;
+      if (all_finite(sim->x()) && all_finite(sim->v()))
+        r.notes.push_back("frame " + std::to_string(f) + ": the state exceeded 1e30 (m or m/s) and a collision "
+                          "query refused it; the run is reported as non-finite");
       ok = false;
     }
     const auto t1 = Clock::now();
