@@ -618,12 +618,25 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
       const Real mu_d = cs.dynamic_friction * obj->getFriction();
       const Real e = cs.restitution * obj->getRestitution();
       Index body = -1;
+      // A particle attached to this body does not collide with it: the
+      // attachment holds it at a point of the body, often on its surface,
+      // where a contact would push it off by the thickness and fight the
+      // attachment at every substep.
+      const bool has_attached = std::any_of(attachments_.begin(), attachments_.end(), [&](const Attachment& a) {
+        return a.system == s.id && a.body == obj;
+      });
+      auto attached_here = [&](Index i) {
+        return std::any_of(attachments_.begin(), attachments_.end(), [&](const Attachment& a) {
+          return a.system == s.id && a.body == obj && a.particle == i;
+        });
+      };
       // The culled pairs of this candidate, or every particle.
       const Index* const listed = sc.particles.data() + (cs.cull ? sc.pair_begin[k] : 0);
       const Index count = cs.cull ? sc.pair_begin[k + 1] - sc.pair_begin[k] : n;
       for (Index j = 0; j < count; ++j) {
         const Index i = cs.cull ? listed[j] : j;
         if (m.inv_mass[i] == Real(0)) continue;  // never in a culled list
+        if (has_attached && attached_here(i)) continue;
         ++stats_.queries;
         const Real thick = m.radius[i] + cs.thickness;
         // The particle's position relative to the body at the start of the
