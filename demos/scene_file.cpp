@@ -144,7 +144,7 @@ using Keys = std::initializer_list<const char*>;
 // clang-format off
 constexpr Keys kTopKeys{"name", "description", "solver", "soft", "bodies", "attachments"};
 constexpr Keys kSolverKeys{"method", "dt", "substeps", "iterations", "frames", "drag", "alternate_sweeps",
-                           "gravity", "bullet_kLST"};
+                           "coloured", "gravity", "bullet_kLST"};
 constexpr Keys kSoftKeys{"particles", "generators", "contacts", "distances", "collisions", "pins", "planes",
                      "penetrations", "dihedral_bends", "isometric_bends", "tets", "tethers",
                      "global_volumes", "self_collision", "collision_triangles"};
@@ -407,6 +407,7 @@ SolverSpec read_solver(const Ctx& c, const json& v, const std::string& path) {
   o.real("drag", s.drag);
   non_negative(c, s.drag, o.at("drag"));
   o.boolean("alternate_sweeps", s.alternate_sweeps);
+  o.boolean("coloured", s.coloured);
   o.vec("gravity", s.gravity);
   o.real("bullet_kLST", s.bullet_kLST);
   c.require(s.bullet_kLST > Real(0) && s.bullet_kLST <= Real(1), o.at("bullet_kLST"),
@@ -1458,6 +1459,7 @@ json to_json(const SceneSpec& s) {
                  {"frames", v.frames},
                  {"drag", out_real(v.drag)},
                  {"alternate_sweeps", v.alternate_sweeps},
+                 {"coloured", v.coloured},
                  {"gravity", out_vec(v.gravity)},
                  {"bullet_kLST", out_real(v.bullet_kLST)}};
   j["soft"] = out_soft(s.soft);

@@ -42,6 +42,8 @@ struct SolverSpec {
   xpbd::Real drag = 0;  // 1/s, velocity damping rate (>= 0)
   // Symmetric Gauss-Seidel (xpbd::StepConfig::alternate_sweeps).
   bool alternate_sweeps = false;
+  // Coloured sweep of the Distance elements (xpbd::StepConfig::coloured).
+  bool coloured = false;
   xpbd::Vec3 gravity{xpbd::Real(0), xpbd::Real(-9.81), xpbd::Real(0)};  // m/s^2, world gravity
   // btSoftBody (--solver bullet) at the matched budget: `substeps` internal
   // steps of dt/substeps per frame, each with `iterations` position

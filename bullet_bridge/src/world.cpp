@@ -685,6 +685,7 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
   cfg.method = set.method;
   cfg.drag = set.drag;
   cfg.alternate_sweeps = set.alternate_sweeps;
+  cfg.coloured = set.coloured;
   cfg.gravity = to_vec(world_.getGravity());
   cfg.times = times ? &times->step : nullptr;
   // Bodies moved without any contact: the reference the changes are taken from.

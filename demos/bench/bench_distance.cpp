@@ -13,11 +13,19 @@
 //                   eval()-based kernel every other constraint type uses;
 //   naive_sweep/*   the same sweep written as a straightforward scalar loop
 //                   over an array of structs (reference, below);
+//   coloured_sweep/* one sweep of xpbd::project_all_coloured, what step()
+//                   runs with StepConfig::coloured: the pair-distance kernel
+//                   over the elements in the order of the model's colour
+//                   schedule (Model::distance_by_colour), so consecutive
+//                   projections share no particle;
 //   step/*          a full xpbd::step() of the cloth scene, time divided by
 //                   substeps * iterations * constraints (so predict and the
-//                   velocity update are charged to the projections).
-// At the end the program prints the medians (or single runs) and the ratio of
-// the naive sweep to each benchmark, all measured in this run.
+//                   velocity update are charged to the projections);
+//   step_coloured/* the same with StepConfig::coloured.
+// At the end the program prints the medians (or single runs), the ratio of
+// the naive sweep to each benchmark, and for the coloured ones
+// the ratio of the array-order benchmark (kernel_sweep or step) to them, all
+// measured in this run, and the number of colours.
 //
 // Snapshot / restore (DESIGN.md principle 7): the cloth is warmed up by a few
 // steps of free swinging; that State is the snapshot. Each measured batch
@@ -182,14 +190,16 @@ struct Data {
   std::vector<Edge> edges;
 };
 
-Data from(const ClothBench& b) {
+// `coloured`: the edges in schedule order (the order coloured_sweep visits
+// them), else in array order.
+Data from(const ClothBench& b, bool coloured = false) {
   Data d;
   for (std::size_t i = 0; i < b.sweep_x.size(); ++i) {
     d.particles.push_back(
         Particle{{b.sweep_x[i].x(), b.sweep_x[i].y(), b.sweep_x[i].z()}, b.model.inv_mass[i]});
     for (int c = 0; c < 3; ++c) d.x_prev.push_back(b.sweep_x_prev[i][c]);
   }
-  for (const Distance& c : b.model.get<Distance>())
+  for (const Distance& c : coloured ? b.model.distance_by_colour : b.model.get<Distance>())
     d.edges.push_back(Edge{c.p[0], c.p[1], c.rest, c.mat.compliance, c.mat.damping, 0});
   return d;
 }
@@ -210,14 +220,21 @@ SolveContext context(const ClothBench& b, State& s) {
   return sc;
 }
 
-enum class Kernel { dispatch, generic };
+enum class Kernel { dispatch, generic, coloured };
 
 void kernel_sweep(const ClothBench& b, State& s, const SolveContext& sc,
                   Kernel kernel = Kernel::dispatch) {
   const std::span<const Distance> cs(b.model.get<Distance>());
   std::span<Real> lambda(s.lambdas<Distance>());
   const bool damped = b.model.has_damping[type_index_v<Distance>];
-  if (kernel == Kernel::dispatch) {
+  if (kernel == Kernel::coloured) {
+    const std::span<const Distance> by_colour(b.model.distance_by_colour);
+    const std::span<const Index> order(b.model.distance_colours.order);
+    if (damped)
+      project_all_coloured<Distance, true>(by_colour, order, lambda, sc);
+    else
+      project_all_coloured<Distance, false>(by_colour, order, lambda, sc);
+  } else if (kernel == Kernel::dispatch) {
     if (damped)
       project_all<Distance, true>(cs, lambda, sc);
     else
@@ -243,7 +260,7 @@ Agreement kernel_vs_naive(const ClothBench& b, Kernel kernel) {
   s.x_prev = b.sweep_x_prev;
   std::fill(s.lambdas<Distance>().begin(), s.lambdas<Distance>().end(), Real(0));
   kernel_sweep(b, s, context(b, s), kernel);
-  naive::Data d = naive::from(b);
+  naive::Data d = naive::from(b, kernel == Kernel::coloured);
   naive::sweep(d.particles.data(), d.x_prev.data(), d.edges.data(), d.edges.size(),
                b.cfg.dt / Real(b.cfg.substeps));
   Agreement a;
@@ -260,7 +277,9 @@ Agreement kernel_vs_naive(const ClothBench& b, Kernel kernel) {
 // association (d/len vs d*(1/len), alpha/h^2 vs alpha*(1/h)^2, ...), so they
 // differ by a few ulp of the coordinates per projection; one Gauss-Seidel
 // sweep does not amplify that much (about 1 ulp is observed). Allow 64 ulp
-// of the largest coordinate. The check is only meaningful if the sweep's
+// of the largest coordinate. The coloured sweep is compared with the naive
+// loop over the edges in schedule order. The check is only
+// meaningful if the sweep's
 // corrections are well above that (a wrong formula or order shows up at the
 // size of the corrections), so at least 10x that is required too.
 bool check_agreement(benchmark::State& bs, const ClothBench& b, Kernel kernel) {
@@ -303,6 +322,7 @@ void BM_kernel_sweep(benchmark::State& bs, Stiffness stiffness, Kernel kernel) {
   const double projections = double(b.model.get<Distance>().size()) * double(bs.iterations());
   bs.counters["ns_per_projection"] = ns / projections;
   bs.counters["constraints"] = double(b.model.get<Distance>().size());
+  bs.counters["colours"] = double(b.model.distance_colours.num_colours());
 }
 
 void BM_naive_sweep(benchmark::State& bs, Stiffness stiffness) {
@@ -330,9 +350,11 @@ void BM_naive_sweep(benchmark::State& bs, Stiffness stiffness) {
 
 // Full step of the cloth scene; every constraint type of the model counts
 // (here: the distances plus the two kinematic pins).
-void BM_step(benchmark::State& bs, Stiffness stiffness, int substeps, int iterations) {
+void BM_step(benchmark::State& bs, Stiffness stiffness, int substeps, int iterations,
+             bool coloured) {
   const ClothBench& b = cloth(stiffness);
   StepConfig cfg = b.cfg;
+  cfg.coloured = coloured;
   cfg.substeps = substeps;
   cfg.iterations = iterations;
   State s = b.snapshot;
@@ -365,16 +387,22 @@ void add(const std::string& name, benchmark::TimeUnit unit, Args&&... args) {
 }
 
 void register_all() {
+  // Array-order and coloured variants registered next to each other, so
+  // that with repetitions their runs are close in time.
   for (Stiffness s : {Stiffness::compliant, Stiffness::rigid, Stiffness::damped}) {
     const std::string n = name(s);
     add("naive_sweep/" + n, benchmark::kMicrosecond, BM_naive_sweep, s);
     add("generic_sweep/" + n, benchmark::kMicrosecond, BM_kernel_sweep, s, Kernel::generic);
     add("kernel_sweep/" + n, benchmark::kMicrosecond, BM_kernel_sweep, s, Kernel::dispatch);
+    add("coloured_sweep/" + n, benchmark::kMicrosecond, BM_kernel_sweep, s, Kernel::coloured);
   }
   for (Stiffness s : {Stiffness::compliant, Stiffness::rigid}) {
     const std::string n = name(s);
-    add("step/" + n + "/substeps:10/iterations:1", benchmark::kMillisecond, BM_step, s, 10, 1);
-    add("step/" + n + "/substeps:1/iterations:10", benchmark::kMillisecond, BM_step, s, 1, 10);
+    for (auto [sub, it] : {std::pair{10, 1}, std::pair{1, 10}}) {
+      const std::string si = "/substeps:" + std::to_string(sub) + "/iterations:" + std::to_string(it);
+      add("step/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, false);
+      add("step_coloured/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, true);
+    }
   }
 }
 
@@ -394,6 +422,8 @@ class SummaryReporter : public benchmark::ConsoleReporter {
       if (r.run_type == Run::RT_Aggregate && !median) continue;
       Entry& e = results_[n];
       if (median || !e.median) e = Entry{it->second.value, median};
+      const auto c = r.counters.find("colours");
+      if (c != r.counters.end()) colours_ = c->second.value;
       if (std::find(order_.begin(), order_.end(), n) == order_.end()) order_.push_back(n);
     }
     ConsoleReporter::ReportRuns(runs);
@@ -401,20 +431,33 @@ class SummaryReporter : public benchmark::ConsoleReporter {
 
   void summary() const {
     if (results_.empty()) return;
-    std::printf("\nns per projection (%s), and speed-up over the naive sweep of the same\n"
-                "stiffness in this run\n",
+    std::printf("\nns per projection (%s), speed-up over the naive sweep of the same\n"
+                "stiffness, and for coloured runs the array-order run's time over\n"
+                "theirs (kernel_sweep or step, same stiffness and budget), all in this run\n",
                 any_median() ? "median of repetitions" : "single run");
-    std::printf("%-44s %12s %12s\n", "benchmark", "ns/proj", "naive/this");
+    std::printf("%-48s %10s %11s %11s\n", "benchmark", "ns/proj", "naive/this", "array/this");
     for (const std::string& n : order_) {
       const double v = results_.at(n).value;
       // "step/rigid/substeps:10/iterations:1" -> "naive_sweep/rigid"
       const std::size_t a = n.find('/') + 1, b = n.find('/', a);
       const auto naive = results_.find("naive_sweep/" + n.substr(a, b - a));
+      // "step_coloured/rigid/..." -> "step/rigid/...", "coloured_sweep/x" -> "kernel_sweep/x"
+      const std::string kind = n.substr(0, a - 1), rest = n.substr(a - 1);
+      std::string array;
+      if (kind == "step_coloured") array = "step" + rest;
+      if (kind == "coloured_sweep") array = "kernel_sweep" + rest;
+      const auto arr = array.empty() ? results_.end() : results_.find(array);
+      std::printf("%-48s %10.2f", n.c_str(), v);
       if (naive != results_.end())
-        std::printf("%-44s %12.2f %12.2f\n", n.c_str(), v, naive->second.value / v);
+        std::printf(" %11.2f", naive->second.value / v);
       else
-        std::printf("%-44s %12.2f %12s\n", n.c_str(), v, "-");
+        std::printf(" %11s", "-");
+      if (arr != results_.end())
+        std::printf(" %11.2f\n", arr->second.value / v);
+      else
+        std::printf(" %11s\n", "-");
     }
+    if (colours_ > 0) std::printf("colours in the cloth's Distance schedule: %.0f\n", colours_);
   }
 
  private:
@@ -429,6 +472,7 @@ class SummaryReporter : public benchmark::ConsoleReporter {
   }
   std::map<std::string, Entry> results_;
   std::vector<std::string> order_;
+  double colours_ = 0;
 };
 
 }  // namespace

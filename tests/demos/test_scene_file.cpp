@@ -197,6 +197,7 @@ TEST(SceneFile, RoundTripExplicitParticlesAndEveryElementType) {
   s.solver.frames = 11;
   s.solver.drag = Real(0.1);
   s.solver.alternate_sweeps = true;
+  s.solver.coloured = true;
   s.solver.gravity = Vec3(Real(0.1), Real(-9.80665), Real(1) / Real(3));
   s.solver.bullet_kLST = Real(0.7);
   xpbd::SceneDesc& d = s.soft.particles;

@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <string>
+#include <type_traits>
 
 #include "xpbd/error.hpp"
 #include "xpbd/rigid_solve.hpp"
@@ -40,6 +41,18 @@ void check_state_matches(const Model& m, const State& s) {
     ok = ok && s.lambdas<T>().size() == m.get<T>().size();
   });
   if (!ok) throw ConfigError("state.lambda: sizes do not match the model (use make_state)");
+}
+
+// StepConfig::coloured needs a schedule covering every Distance element
+// (compile() makes one; a Model edited afterwards may not have it).
+void check_colours(const Model& m) {
+  const ColourSchedule& c = m.distance_colours;
+  const std::size_t n = m.get<Distance>().size();
+  if (c.order.size() != n || m.distance_by_colour.size() != n || c.begin.empty() ||
+      c.begin.front() != 0 || static_cast<std::size_t>(c.begin.back()) != n)
+    throw ConfigError("StepConfig.coloured: model.distance_colours covers " +
+                      std::to_string(c.order.size()) + " elements, the model has " +
+                      std::to_string(n) + " Distance elements (use compile)");
 }
 
 // Pin targets at fraction t in [0, 1] of the step.
@@ -80,7 +93,9 @@ void reset_multipliers(State& s) {
 
 // One Gauss-Seidel sweep over every constraint type, in ConstraintTypes order
 // (each type with elements is a stage of its own in StepConfig::times).
-void solve_constraints(const Model& m, State& s, const SolveContext& sc, StageTimes* times) {
+// `coloured`: Distance in the order of m.distance_colours (StepConfig::coloured).
+void solve_constraints(const Model& m, State& s, const SolveContext& sc, bool coloured,
+                       StageTimes* times) {
   for_each_constraint_type([&]<class T>(std::type_identity<T>) {
     const auto& cs = m.get<T>();
     if (cs.empty()) return;
@@ -89,7 +104,19 @@ void solve_constraints(const Model& m, State& s, const SolveContext& sc, StageTi
         solve_global_volumes(m, s, sc);  // GlobalVolume: variable arity, own kernel
       } else {
         std::span<const T> span(cs);
-        if (m.has_damping[type_index_v<T>])
+        const bool damped = m.has_damping[type_index_v<T>];
+        if constexpr (std::is_same_v<T, Distance>) {
+          if (coloured) {
+            const std::span<const T> by_colour(m.distance_by_colour);
+            const std::span<const Index> order(m.distance_colours.order);
+            if (damped)
+              project_all_coloured<T, true>(by_colour, order, s.lambdas<T>(), sc);
+            else
+              project_all_coloured<T, false>(by_colour, order, s.lambdas<T>(), sc);
+            return;
+          }
+        }
+        if (damped)
           project_all<T, true>(span, s.lambdas<T>(), sc);
         else
           project_all<T, false>(span, s.lambdas<T>(), sc);
@@ -128,6 +155,7 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
   timed(t, stage::step_setup, true, [&] {
     validate(cfg);
     check_state_matches(m, s);
+    if (cfg.coloured) check_colours(m);
     // Per-step constraint data: the side each penetration point starts on.
     begin_step_constraints(m, s);
     // Host-supplied rigid bodies, contacts and attachments: checked and sized.
@@ -169,7 +197,7 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
       // substeps (so that one iteration per substep alternates too), runs
       // last to first.
       sc.reverse = cfg.alternate_sweeps && ((sub * cfg.iterations + it) & 1) != 0;
-      solve_constraints(m, s, sc, t);
+      solve_constraints(m, s, sc, cfg.coloured, t);
       timed(t, stage::self_collision_solve, !s.self_collision.pairs.empty(),
             [&] { solve_self_collisions(m, s, sc); });
       timed(t, stage::body_attachments, !s.attachments.empty(),

@@ -106,6 +106,7 @@ struct SystemSettings {
   xpbd::Method method = xpbd::Method::xpbd;
   xpbd::Real drag = 0;  // 1/s
   bool alternate_sweeps = false;  // xpbd::StepConfig::alternate_sweeps
+  bool coloured = false;          // xpbd::StepConfig::coloured
   ContactSettings contacts;
   // Opt-in timing: when set, every step of the system adds its stage times
   // to *times (which must outlive the system or be reset to nullptr).

@@ -136,6 +136,7 @@ inline SceneSpec round_trip(const SceneSpec& s) {
   EXPECT_EQ(back.solver.frames, s.solver.frames);
   EXPECT_EQ(back.solver.drag, s.solver.drag);
   EXPECT_EQ(back.solver.alternate_sweeps, s.solver.alternate_sweeps);
+  EXPECT_EQ(back.solver.coloured, s.solver.coloured);
   EXPECT_EQ(back.solver.gravity, s.solver.gravity);
   EXPECT_EQ(back.solver.bullet_kLST, s.solver.bullet_kLST);
   const SoftContactSpec &c0 = s.soft.contacts, &c1 = back.soft.contacts;

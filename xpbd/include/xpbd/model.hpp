@@ -10,6 +10,21 @@
 
 namespace xpbd {
 
+// A colouring of one constraint type's elements (compile.cpp): element
+// indices grouped into colours such that no two elements of one colour share
+// a particle, so the projections of one colour are independent of each other
+// (StepConfig::coloured). Colours come from a greedy colouring in array
+// order (each element takes the smallest colour none of its particles has
+// yet); within a colour the elements keep their array order.
+struct ColourSchedule {
+  std::vector<Index> order;  // element indices, colour by colour
+  // Colour c holds order[begin[c]] .. order[begin[c+1] - 1]; size colours + 1
+  // (just {0} when the type has no elements).
+  std::vector<Index> begin{0};
+
+  Index num_colours() const { return static_cast<Index>(begin.size()) - 1; }
+};
+
 struct Model {
   // Particles (parallel arrays, one entry per particle).
   std::vector<Real> inv_mass;  // 1/kg; 0 = kinematic
@@ -33,6 +48,13 @@ struct Model {
   // True if any element of that type has damping != 0 (selects the kernel
   // variant that reads previous positions).
   std::array<bool, kNumConstraintTypes> has_damping{};
+
+  // Colour schedule of the Distance elements, and the elements copied in
+  // that order (distance_by_colour[j] = Distance element
+  // distance_colours.order[j]), which the coloured sweep reads contiguously.
+  // Used by StepConfig::coloured.
+  ColourSchedule distance_colours;
+  std::vector<Distance> distance_by_colour;
 
   // Opt-in particle-particle collision (spatial_hash.hpp); empty when off.
   SelfCollisionModel self_collision;

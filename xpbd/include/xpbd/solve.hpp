@@ -16,6 +16,11 @@
 //     wrote). See docs/benchmarks.md for the measured effect.
 // Both compute the same update, to round-off, in the same (array) order;
 // tests/unit/test_solve_pair_distance.cpp checks that.
+//
+// project_all_coloured() (StepConfig::coloured) runs the pair-distance kernel
+// over the elements in the order of a ColourSchedule (model.hpp) instead:
+// colour by colour, no two elements of a colour sharing a particle
+// (tests/unit/test_coloured_sweep.cpp).
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -154,8 +159,13 @@ void project_generic(const T* cs, std::size_t n, Real* lambda, const SolveContex
 // the operations left between reading the positions and writing them back
 // are the ones the next projection must wait for. Each rewrite changes the
 // result by round-off only.
-template <class T, bool kDamped, bool kXpbd>
-void project_pair_distance(const T* cs, std::size_t n, Real* lambda, const SolveContext& sc) {
+//
+// kMapped (the coloured sweep): element k's multiplier is
+// lambda[lambda_of[k]] instead of lambda[k] (cs is a permuted copy of the
+// elements, lambda stays indexed by the original element).
+template <class T, bool kDamped, bool kXpbd, bool kMapped = false>
+void project_pair_distance(const T* cs, std::size_t n, Real* lambda, const SolveContext& sc,
+                           const Index* lambda_of = nullptr) {
   using P = PairDistance<T>;
   constexpr Real sign = P::sign;
   const Real inv_h = Real(1) / sc.h;
@@ -167,6 +177,7 @@ void project_pair_distance(const T* cs, std::size_t n, Real* lambda, const Solve
   for (std::size_t j = 0; j < n; ++j) {
     const std::size_t k = visit_index(j, n, reverse);
     const T& c = cs[k];
+    Real& lam = lambda[kMapped ? static_cast<std::size_t>(lambda_of[k]) : k];
     const Index a = c.p[0], b = c.p[1];
     const Real rest = P::rest(c);
 
@@ -184,7 +195,7 @@ void project_pair_distance(const T* cs, std::size_t n, Real* lambda, const Solve
     }
     if (!(den > Real(0))) continue;
     const Real inv_den = Real(1) / den;
-    const Real num0 = sign * rest - at * lambda[k];  // num = num0 - s L (XPBD)
+    const Real num0 = sign * rest - at * lam;  // num = num0 - s L (XPBD)
 
     // Dependent on the positions.
     const Vec3 d = x[a] - x[b];
@@ -192,7 +203,7 @@ void project_pair_distance(const T* cs, std::size_t n, Real* lambda, const Solve
     const Real len = std::sqrt(q);
     if (!(len > kDegenerateRel * rest)) continue;
     if constexpr (T::kInequality) {
-      if (sign * (len - rest) >= Real(0) && lambda[k] == Real(0)) continue;
+      if (sign * (len - rest) >= Real(0) && lam == Real(0)) continue;
     }
     // 1/q overflows if q is subnormal, i.e. for lengths below ~1e-154 m
     // (double; ~1e-19 m in float), far below any physical scale: there 1/len
@@ -210,11 +221,11 @@ void project_pair_distance(const T* cs, std::size_t n, Real* lambda, const Solve
     }
     Real dl = num * inv_den;
     if constexpr (T::kInequality) {
-      const Real l = std::max(lambda[k] + dl, Real(0));
-      dl = l - lambda[k];
-      lambda[k] = l;
+      const Real l = std::max(lam + dl, Real(0));
+      dl = l - lam;
+      lam = l;
     } else {
-      lambda[k] += dl;
+      lam += dl;
     }
     x[a] += (dl * (wa * f)) * d;
     x[b] -= (dl * (wb * f)) * d;
@@ -242,6 +253,28 @@ void project_all(std::span<const T> cs, std::span<Real> lambda, const SolveConte
     detail::project<T, kDamped, true>(cs.data(), cs.size(), lambda.data(), sc);
   else
     detail::project<T, false, false>(cs.data(), cs.size(), lambda.data(), sc);
+}
+
+// Projects every element once in a colour order (StepConfig::coloured):
+// `by_colour` holds the elements of a pair-distance type in the order of
+// their ColourSchedule (model.hpp), by_colour[j] being element order[j];
+// `lambda` stays indexed by element (lambda[order[j]] belongs to
+// by_colour[j]). Runs the pair-distance kernel over by_colour, so the result
+// equals project_all over the elements laid out in schedule order. Within a
+// colour consecutive projections share no particle, so none waits for the
+// previous one's store (docs/benchmarks.md, "Coloured sweep"). A reversed
+// sweep (sc.reverse) runs by_colour last to first: the colours last to first
+// (the order within a colour does not change the result).
+template <class T, bool kDamped>
+void project_all_coloured(std::span<const T> by_colour, std::span<const Index> order,
+                          std::span<Real> lambda, const SolveContext& sc) {
+  static_assert(PairDistance<T>::value, "pair-distance types only");
+  if (sc.method == Method::xpbd)
+    detail::project_pair_distance<T, kDamped, true, true>(by_colour.data(), by_colour.size(),
+                                                          lambda.data(), sc, order.data());
+  else
+    detail::project_pair_distance<T, false, false, true>(by_colour.data(), by_colour.size(),
+                                                         lambda.data(), sc, order.data());
 }
 
 // The generic projection for any type, also for pair-distance types (tests
