@@ -66,6 +66,12 @@ void validate_options(const RunOptions& o, const SceneSpec& spec) {
   if (o.substeps < 1) fail("substeps", "must be >= 1, got " + std::to_string(o.substeps));
   if (o.iterations < 1) fail("iterations", "must be >= 1, got " + std::to_string(o.iterations));
   if (o.frames < 1) fail("frames", "must be >= 1, got " + std::to_string(o.frames));
+  if (o.rigid_steps < 1 || o.substeps % o.rigid_steps != 0)
+    fail("rigid_steps", "must be >= 1 and divide substeps (" + std::to_string(o.substeps) + "), got " +
+                            std::to_string(o.rigid_steps));
+  if (o.solver == Solver::bullet && o.rigid_steps != 1)
+    fail("rigid_steps", "applies to xpbd and pbd only (btSoftBody steps the rigid bodies at every internal "
+                        "step already), got " + std::to_string(o.rigid_steps));
   if (!(o.bullet_sdf_voxel >= Real(0)) || !std::isfinite(o.bullet_sdf_voxel))
     fail("bullet_sdf_voxel", "must be finite and >= 0 (0 = automatic), got " + num(o.bullet_sdf_voxel));
   const SolverSpec& s = spec.solver;
@@ -344,13 +350,14 @@ class XpbdSim : public SoftSim {
  public:
   XpbdSim(const SceneSpec& spec, std::shared_ptr<const xpbd::Model> model, RigidWorld& rw,
           const RunOptions& opt)
-      : rw_(rw), dt_(opt.dt), world_(rw.world()) {
+      : rw_(rw), dt_(opt.dt / Real(opt.rigid_steps)), rigid_steps_(opt.rigid_steps), world_(rw.world()) {
     xpbd_bullet::SystemSettings s;
-    s.substeps = opt.substeps;
+    s.substeps = opt.substeps / opt.rigid_steps;  // per Bullet step (validate_options: divides)
     s.iterations = opt.iterations;
     s.method = opt.solver == Solver::pbd ? xpbd::Method::pbd : xpbd::Method::xpbd;
     s.drag = spec.solver.drag;
     s.alternate_sweeps = spec.solver.alternate_sweeps;
+    s.coloured = spec.solver.coloured;
     const SoftContactSpec& c = spec.soft.contacts;
     s.contacts.enabled = !spec.bodies.empty();
     s.contacts.margin = c.margin;
@@ -374,7 +381,7 @@ class XpbdSim : public SoftSim {
   }
 
   bool step_frame() override {
-    rw_.step(dt_);
+    for (int k = 0; k < rigid_steps_; ++k) rw_.step(dt_);
     const xpbd::State& s = world_.state(id_);
     return all_finite(s.x) && all_finite(s.v) && rw_.finite();
   }
@@ -385,7 +392,8 @@ class XpbdSim : public SoftSim {
 
  private:
   RigidWorld& rw_;
-  Real dt_;
+  Real dt_;             // s, one Bullet step: the frame's dt / rigid_steps_
+  int rigid_steps_ = 1;  // Bullet steps per frame
   bool timing_ = false;
   xpbd_bullet::SystemTimes times_;  // before world_: outlives the system
   xpbd_bullet::XpbdWorld world_;  // removes its action from the world when destroyed
@@ -456,6 +464,8 @@ class BulletSim : public SoftSim {
                     "; the scene's distance compliances and stiffnesses are not used");
     if (spec.solver.alternate_sweeps)
       notes.push_back("btSoftBody: alternate_sweeps is not used (btSoftBody sweeps its links in one order)");
+    if (spec.solver.coloured)
+      notes.push_back("btSoftBody: coloured is not used (btSoftBody sweeps its links in one order)");
     if (!spec.bodies.empty()) {
       if (!model.collision_triangles.empty())
         notes.push_back("btSoftBody: the " + std::to_string(model.collision_triangles.size()) +
@@ -635,8 +645,10 @@ RunResult run_scene(const SceneSpec& spec, const ExpandedSoft& soft, const RunOp
                          {"method", solver_name(opt.solver)},
                          {"substeps", opt.substeps},
                          {"iterations", opt.iterations},
+                         {"rigid_steps_per_frame", opt.rigid_steps},
                          {"drag", double(spec.solver.drag)},
                          {"alternate_sweeps", spec.solver.alternate_sweeps},
+                         {"coloured", spec.solver.coloured},
                          {"contacts",
                           {{"enabled", !spec.bodies.empty()},
                            {"thickness", double(c.thickness)},

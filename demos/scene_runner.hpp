@@ -47,6 +47,14 @@ struct RunOptions {
   // (RunResult::stage_ms_per_frame, docs/stages.md). Ignored by bullet runs
   // (btSoftBody has no per-stage hooks; the run gets a note saying so).
   bool stage_times = false;
+  // xpbd/pbd only: Bullet steps per frame. The frame's `substeps` are split
+  // evenly over them (each Bullet step of dt/rigid_steps runs
+  // substeps/rigid_steps XPBD substeps), so the rigid bodies are integrated
+  // rigid_steps times per frame; rigid_steps = substeps steps them at every
+  // substep (the comparison harness's converged reference for coupled
+  // scenes). Must divide substeps. Default 1: one Bullet step per frame, the
+  // bridge's normal use (docs/metrics.md).
+  int rigid_steps = 1;
 };
 
 // spec.solver's method, dt, substeps, iterations and frames.

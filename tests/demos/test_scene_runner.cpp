@@ -12,6 +12,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "demos/scene_runner.hpp"
@@ -160,6 +161,56 @@ TEST(SceneRunner, RigidBodyEnergiesInTheSeries) {
           << solver_name(solver) << " frame " << k;
       EXPECT_NEAR(r.series[std::size_t(k)].potential_energy, double(3 * kG * y), double(3 * kG * tol_x))
           << solver_name(solver) << " frame " << k;
+    }
+  }
+}
+
+// RunOptions::rigid_steps splits an xpbd/pbd frame into that many Bullet
+// steps: a falling ball then follows symplectic Euler with h = dt/K,
+// y_n = y0 - g h^2 n (n+1)/2 after n = K * frame steps -- which differs from
+// one step per frame by g dt^2 frame (1 - 1/K)/2, far above the tolerance.
+// Invalid values name the field.
+TEST(SceneRunner, RigidStepsStepTheBodiesThatManyTimesPerFrame) {
+  for (Solver solver : {Solver::xpbd, Solver::pbd}) {
+    SceneSpec spec = empty_scene("falling_ball");
+    spec.soft.particles.add_particle(Vec3(50, 0, 0), 0);
+    RigidSpec ball;
+    ball.shape.kind = ShapeKind::sphere;
+    ball.shape.radius = Real(0.2);
+    ball.mass = 3;
+    ball.position = Vec3(0, 5, 0);
+    spec.bodies.push_back(ball);
+    const int frames = 6, K = 4;
+    RunOptions opt = options(spec, solver, frames, 8);
+    opt.rigid_steps = K;
+    std::vector<Vec3> pos;
+    const RunResult r = run_scene(spec, opt, [&](const FrameView& f) { pos.push_back(f.bodies[0].position); });
+    ASSERT_TRUE(r.finite);
+    EXPECT_EQ(r.solver_settings.at("rigid_steps_per_frame").get<int>(), K);
+    const Real h = opt.dt / Real(K);
+    for (int k = 0; k <= frames; ++k) {
+      const Real n = Real(k * K);
+      const Real y = 5 - kG * h * h * n * (n + 1) / 2;
+      const Real tol_x = 4 * std::max(Real(1), n * n) * kEps * 6;  // as in RigidBodyEnergiesInTheSeries
+      EXPECT_NEAR(pos[std::size_t(k)].y(), y, tol_x) << solver_name(solver) << " frame " << k;
+    }
+    const Real one_step = 5 - kG * opt.dt * opt.dt * Real(frames) * Real(frames + 1) / 2;
+    // The control: one Bullet step per frame would be off by g dt^2 F (1 - 1/K) / 2 = 6.1 mm, more than
+    // twice the final tolerance even in float (1.7 mm).
+    EXPECT_GT(std::abs(pos.back().y() - one_step), 2 * 4 * Real(frames * K * frames * K) * kEps * 6);
+  }
+  SceneSpec spec = empty_scene("p");
+  spec.soft.particles.add_particle(Vec3(0, 0, 0), 1);
+  for (auto [solver, substeps, k] : {std::tuple{Solver::xpbd, 8, 3}, std::tuple{Solver::xpbd, 8, 0},
+                                     std::tuple{Solver::bullet, 8, 2}}) {
+    RunOptions opt = options(spec, solver, 2, substeps);
+    opt.rigid_steps = k;
+    try {
+      run_scene(spec, opt);
+      ADD_FAILURE() << "rigid_steps " << k << " accepted";
+    } catch (const xpbd::ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("solver.rigid_steps"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(std::to_string(k)), std::string::npos) << e.what();
     }
   }
 }
