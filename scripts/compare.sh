@@ -9,22 +9,32 @@
 #   BUILD_DIR=build/x JOBS=1 bash scripts/compare.sh
 #   bash scripts/compare.sh --quick         a tiny sweep (3 budgets, 0.5 s; for trying it out)
 #
-# Extra arguments go to `xpbd-compare run` (--shard i/n, --scenes a,b,
-# --quick). Sharded on several machines: run
-#   xpbd-compare run --shard i/n --out shard_i.csv
-# on each, then `xpbd-compare merge shard_*.csv -o docs/results.csv` and
+# Extra arguments go to both `xpbd-compare run`s (--shard i/n, --scenes a,b,
+# --quick). The double build runs XPBD, PBD, btSoftBody and the references
+# (written to $build/compare-ref); then the float build (FLOAT_BUILD_DIR,
+# default build/float-compare) runs XPBD against those double references.
+# Sharded on several machines: run
+#   xpbd-compare run --shard i/n --out shard_i.csv --reference-dir ref
+# on each (double, then float with --methods xpbd), then
+# `xpbd-compare merge shard_*.csv -o docs/results.csv` and
 # `xpbd-compare report` (the last lines of this script).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build="${BUILD_DIR:-build/double}"
+fbuild="${FLOAT_BUILD_DIR:-build/float-compare}"
 jobs="${JOBS:-2}"
 csv=docs/results.csv
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DXPBD_DOUBLE=ON >/dev/null
 cmake --build "$build" --target xpbd-compare -j"$jobs"
+cmake -S . -B "$fbuild" -DCMAKE_BUILD_TYPE=Release -DXPBD_DOUBLE=OFF >/dev/null
+cmake --build "$fbuild" --target xpbd-compare -j"$jobs"
 exe="$build/demos/compare/xpbd-compare"
-if [[ -z "${RESUME:-}" ]]; then rm -f "$csv"; fi
+fexe="$fbuild/demos/compare/xpbd-compare"
+refs="$build/compare-ref"
+if [[ -z "${RESUME:-}" ]]; then rm -f "$csv"; rm -rf "$refs"; fi
 start=$(date +%s)
-"$exe" run --out "$csv" "$@"
+"$exe" run --out "$csv" --reference-dir "$refs" "$@"
+"$fexe" run --out "$csv" --reference-dir "$refs" --methods xpbd "$@"
 seconds=$(( $(date +%s) - start ))
 gp_dir="$build/compare-gp"
 rm -rf "$gp_dir"

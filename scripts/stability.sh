@@ -11,8 +11,9 @@
 #
 # Extra arguments go to `xpbd-compare stability run` (--quick, --shard i/n).
 # Sharded: `xpbd-compare stability run --shard i/n --out part_i.csv` on each
-# machine, concatenate the parts (one header) into docs/stability.csv, then
-# the report and gnuplot lines below.
+# machine, then `xpbd-compare stability merge part_*.csv -o docs/stability.csv`
+# (one header, sweep order, a run in two parts kept once if both agree),
+# then the report and gnuplot lines below.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build="${BUILD_DIR:-build/double}"

@@ -5,7 +5,7 @@
 namespace xpbd_compare {
 
 double judged_error(const Row& r, double error_time) {
-  if (error_time <= 0 || r.scene == "hanging_chain") return r.err_rms_final;
+  if (error_time <= 0 || static_reference(r.scene)) return r.err_rms_final;
   const std::optional<double> e = rms_error_at(r, error_time);
   return e ? *e : std::nan("");
 }

@@ -13,8 +13,9 @@
 namespace xpbd_compare {
 
 // The error a sweep row is judged by (m): the RMS position error at time
-// error_time (s), or at the final frame if error_time <= 0 or for the chain
-// (whose closed-form reference is its settled state). NaN if the row has no
+// error_time (s), or at the final frame if error_time <= 0 or for the scenes
+// with a static closed-form reference (static_reference: the chain, the
+// catenary). NaN if the row has no
 // sample at that time.
 double judged_error(const Row& r, double error_time);
 

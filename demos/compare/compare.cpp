@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -79,21 +80,44 @@ std::vector<CompareScene> compare_scenes(bool quick) {
     c.solver.frames = frames;
     return c;
   };
-  v.push_back({"hanging_cloth_32", builtin("hanging_cloth"), std::nullopt});
+  // A scene with a run reference; `rigid`: the reference steps the rigid
+  // bodies at every substep (scenes with a dynamic body).
+  auto scene = [](std::string id, SceneSpec spec, bool rigid = false) {
+    CompareScene c;
+    c.id = std::move(id);
+    c.spec = std::move(spec);
+    c.reference_rigid_substeps = rigid;
+    return c;
+  };
+  v.push_back(scene("hanging_cloth_32", builtin("hanging_cloth")));
   {
     SceneSpec c = xpbd_demos::apply_sets(builtin("hanging_cloth"),
                                          {"soft.generators.0.cloth.nx=64", "soft.generators.0.cloth.ny=64",
                                           "soft.generators.0.cloth.pinned=[[0,0],[63,0]]"},
                                          "compare");
     c.name = "hanging_cloth_64";
-    v.push_back({"hanging_cloth_64", c, std::nullopt});
+    v.push_back(scene("hanging_cloth_64", c));
   }
-  v.push_back({"cloth_on_sphere", builtin("cloth_on_sphere"), std::nullopt});
+  // Scenes with a dynamic body (cloth_on_sphere's light box, the
+  // trampoline's ball): the reference steps it at every substep.
+  v.push_back(scene("cloth_on_sphere", builtin("cloth_on_sphere"), true));
   {
     ChainParams p;
-    v.push_back({"hanging_chain", chain_scene(p, frames), p});
+    CompareScene c = scene("hanging_chain", chain_scene(p, frames));
+    c.chain = p;
+    v.push_back(c);
   }
-  v.push_back({"trampoline", builtin("trampoline"), std::nullopt});
+  {
+    // The chain between two supports (catenary.hpp): released 0.5 rad out
+    // of its vertical plane, it swings and settles (drag) to the discrete
+    // elastic catenary.
+    CatenaryParams p;
+    p.start_angle = Real(0.5);
+    CompareScene c = scene("catenary", catenary_scene(p, frames));
+    c.catenary = p;
+    v.push_back(c);
+  }
+  v.push_back(scene("trampoline", builtin("trampoline"), true));
   {
     // A 0.2 m soft cube of tetrahedra (4x4x4 cells, 1 kg, bulk modulus
     // 1 MPa, edges 1e-6 m/N) dropped from 5 cm onto a ground plane.
@@ -114,10 +138,12 @@ std::vector<CompareScene> compare_scenes(bool quick) {
     g.shape.normal = Vec3::UnitY();
     s.bodies.push_back(g);
     s.solver.frames = frames;
-    v.push_back({"soft_cube", s, std::nullopt});
+    v.push_back(scene("soft_cube", s));
   }
   return v;
 }
+
+bool static_reference(const std::string& scene) { return scene == "hanging_chain" || scene == "catenary"; }
 
 // ---------------------------------------------------------------------------
 
@@ -166,6 +192,8 @@ std::string num(double v) {
   return o.str();
 }
 
+}  // namespace
+
 std::string quote(const std::string& s) {
   if (s.find_first_of(",\"\n") == std::string::npos) return s;
   std::string q = "\"";
@@ -203,6 +231,8 @@ std::vector<std::string> split_csv(const std::string& line) {
   out.push_back(cur);
   return out;
 }
+
+namespace {
 
 double to_d(const std::string& s, const std::string& where) {
   if (s == "nan" || s.empty()) return std::nan("");
@@ -320,6 +350,65 @@ std::vector<Row> read_csv(const std::string& path) {
     rows.push_back(r);
   }
   return rows;
+}
+
+// ---------------------------------------------------------------------------
+// Reference files.
+
+bool have_reference(const std::string& dir, const std::string& scene) {
+  return !dir.empty() && std::filesystem::exists(dir + "/" + scene + ".ref");
+}
+
+void write_reference(const std::string& dir, const std::string& scene, const ReferenceData& ref) {
+  const Snapshots& snaps = ref.snaps;
+  std::filesystem::create_directories(dir);
+  const std::string path = dir + "/" + scene + ".ref";
+  {
+    std::ofstream o(path + ".tmp");
+    o.precision(17);
+    const std::size_t n = snaps.empty() ? 0 : snaps.begin()->second.size();
+    o << "xpbd-compare reference " << scene << ' ' << snaps.size() << ' ' << n << ' ' << ref.final_mean_strain
+      << '\n';
+    for (const auto& [f, x] : snaps) {
+      o << "frame " << f << '\n';
+      for (const Vec3& p : x) o << double(p.x()) << ' ' << double(p.y()) << ' ' << double(p.z()) << '\n';
+    }
+    if (!o) throw std::runtime_error(path + ".tmp: write failed");
+  }
+  std::filesystem::rename(path + ".tmp", path);
+}
+
+ReferenceData read_reference(const std::string& dir, const std::string& scene, std::size_t particles) {
+  const std::string path = dir + "/" + scene + ".ref";
+  std::ifstream in(path);
+  if (!in)
+    throw std::runtime_error(path + ": cannot open (the double reference of scene " + scene +
+                             "; run the double sweep with --reference-dir " + dir + " first)");
+  std::string magic, kind, name;
+  std::size_t samples = 0, n = 0;
+  ReferenceData ref;
+  in >> magic >> kind >> name >> samples >> n >> ref.final_mean_strain;
+  if (!in || magic != "xpbd-compare" || kind != "reference" || name != scene)
+    throw std::runtime_error(path + ": not the xpbd-compare reference of scene " + scene);
+  if (n != particles)
+    throw std::runtime_error(path + ": " + std::to_string(n) + " particles, the scene has " +
+                             std::to_string(particles));
+  Snapshots& snaps = ref.snaps;
+  for (std::size_t k = 0; k < samples; ++k) {
+    std::string word;
+    int f = 0;
+    in >> word >> f;
+    if (!in || word != "frame") throw std::runtime_error(path + ": sample " + std::to_string(k) + ": expected \"frame F\"");
+    std::vector<Vec3>& x = snaps[f];
+    x.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      double a = 0, b = 0, c = 0;
+      in >> a >> b >> c;
+      if (!in) throw std::runtime_error(path + ": frame " + std::to_string(f) + ", particle " + std::to_string(i) + ": expected 3 numbers");
+      x[i] = Vec3(Real(a), Real(b), Real(c));
+    }
+  }
+  return ref;
 }
 
 // ---------------------------------------------------------------------------

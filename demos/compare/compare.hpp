@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "demos/compare/catenary.hpp"
 #include "demos/scene_runner.hpp"
 #include "demos/scene_spec.hpp"
 
@@ -74,8 +75,22 @@ struct CompareScene {
   std::string id;                 // CSV/file key, [a-z0-9_]
   xpbd_demos::SceneSpec spec;     // frames set (spec.solver.frames)
   std::optional<ChainParams> chain;  // set: the reference is the closed form
+  std::optional<CatenaryParams> catenary;  // set: the reference is the closed form
+  // Otherwise the reference is XPBD in double at this budget (2B), checked
+  // against the same at half the substeps (B); substeps must be even.
+  Budget reference{4000, 1};
+  // The reference steps the rigid bodies at every substep
+  // (RunOptions::rigid_steps = substeps): for scenes with dynamic bodies,
+  // whose own integration error the sweep's runs (one Bullet step per frame)
+  // carry and the reference must not.
+  bool reference_rigid_substeps = false;
 };
 std::vector<CompareScene> compare_scenes(bool quick);
+
+// The scenes whose reference is a closed-form static equilibrium
+// (hanging_chain, catenary): they are judged at the final frame, once they
+// have settled, whatever time the other scenes are charted at.
+bool static_reference(const std::string& scene);
 
 // ---------------------------------------------------------------------------
 // Position error between two snapshots of the same particles (m): RMS and
@@ -88,8 +103,8 @@ struct PositionError {
 PositionError position_error(std::span<const Vec3> a, std::span<const Vec3> b);
 
 // The frames at which positions are compared: every `every` frames
-// (0.5 s at 60 Hz for every = 30) and the last frame.
-std::vector<int> sample_frames(int frames, int every = 30);
+// (0.25 s at 60 Hz for every = 15) and the last frame.
+std::vector<int> sample_frames(int frames, int every = 15);
 
 // Positions at the sample frames of one run.
 using Snapshots = std::map<int, std::vector<Vec3>>;
@@ -99,7 +114,7 @@ using Snapshots = std::map<int, std::vector<Vec3>>;
 struct Row {
   std::string scene, method, scalar;
   int substeps = 0, iterations = 0, frames = 0, frames_completed = 0;
-  std::string status;  // ok | nonfinite | skipped | reference
+  std::string status;  // ok | nonfinite | exploded | skipped | error | reference
   int particles = 0;
   long long projections_per_frame = 0;
   double wall_ms_median = 0, wall_ms_mean = 0;
@@ -118,9 +133,33 @@ struct Row {
 std::optional<double> rms_error_at(const Row& r, double t);
 const char* csv_header();
 std::string to_csv(const Row& r);
+// One CSV field: as is, or in double quotes (inner quotes doubled, newlines
+// made spaces) if it holds a comma, quote or newline; split_csv undoes it.
+// (Also used by the stability map's CSV, stability.cpp.)
+std::string quote(const std::string& s);
+std::vector<std::string> split_csv(const std::string& line);
 // Parses a file written by to_csv (header first). Throws std::runtime_error
 // naming the file and line for a malformed line.
 std::vector<Row> read_csv(const std::string& path);
+
+// ---------------------------------------------------------------------------
+// The reference of a scene in a text file, so that a float build is
+// compared with the double reference and a resumed sweep need not recompute
+// it (xpbd-compare run --reference-dir): first line "xpbd-compare reference
+// <scene> <samples> <particles> <final mean strain>", then per sample frame
+// a line "frame F" and one line "x y z" per particle (17 significant digits:
+// every bit of a double). write_reference writes dir/<scene>.ref atomically
+// (creating dir); read_reference throws std::runtime_error naming the file
+// and what is wrong (missing, another scene's, another particle count, a
+// short or malformed frame).
+struct ReferenceData {
+  Snapshots snaps;
+  double final_mean_strain = 0;  // 1, mean edge strain at the last frame (btSoftBody's kLST calibration)
+};
+void write_reference(const std::string& dir, const std::string& scene, const ReferenceData& ref);
+ReferenceData read_reference(const std::string& dir, const std::string& scene, std::size_t particles);
+// True if dir/<scene>.ref exists.
+bool have_reference(const std::string& dir, const std::string& scene);
 
 // ---------------------------------------------------------------------------
 // Pareto fronts (error against ms per frame, lower is better in both).

@@ -14,7 +14,10 @@
 #include <stdexcept>
 #include <utility>
 
+#include <Eigen/Geometry>
+
 #include "demos/builtin_scenes.hpp"
+#include "demos/compare/compare.hpp"
 
 namespace xpbd_stability {
 
@@ -61,19 +64,59 @@ double outside_distance(const Vec3& p, const Vec3& lo, const Vec3& hi) {
   return std::sqrt(s);
 }
 
-int particles_through(std::span<const Vec3> x, const TunnelCheck& c) {
-  int n = 0;
-  for (const Vec3& p : x)
-    if (double(p.y()) < c.below_y && std::abs(double(p.x()) - c.cx) < c.half_x &&
-        std::abs(double(p.z()) - c.cz) < c.half_z)
-      ++n;
-  return n;
+void TunnelTracker::observe(std::span<const Vec3> x, const Vec3& body_centre) {
+  ++frame_;
+  if (frame_ == 0) {
+    prev_.assign(x.begin(), x.end());
+    through_.assign(x.size(), 0);
+    foot_lo_x_ = foot_lo_z_ = INFINITY;
+    foot_hi_x_ = foot_hi_z_ = -INFINITY;
+    for (const Vec3& p : x) {
+      foot_lo_x_ = std::min(foot_lo_x_, double(p.x()));
+      foot_hi_x_ = std::max(foot_hi_x_, double(p.x()));
+      foot_lo_z_ = std::min(foot_lo_z_, double(p.z()));
+      foot_hi_z_ = std::max(foot_hi_z_, double(p.z()));
+    }
+  } else if (x.size() != prev_.size()) {
+    throw std::invalid_argument("TunnelTracker: " + std::to_string(x.size()) + " particles at frame " +
+                                std::to_string(frame_) + ", " + std::to_string(prev_.size()) + " before");
+  }
+  auto mark = [&] {
+    if (first_ < 0) first_ = frame_;
+  };
+  if (c_.enabled && frame_ > 0) {
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      const double y0 = double(prev_[i].y()), y1 = double(x[i].y());
+      if (through_[i] || !(y0 >= c_.bottom_y && y1 < c_.bottom_y)) continue;
+      // Where the segment prev -> x crosses the plane y = bottom_y
+      // (y0 > y1 here, so the division is safe).
+      const double t = (y0 - c_.bottom_y) / (y0 - y1);
+      const double px = double(prev_[i].x()) + t * (double(x[i].x()) - double(prev_[i].x()));
+      const double pz = double(prev_[i].z()) + t * (double(x[i].z()) - double(prev_[i].z()));
+      if (std::abs(px - c_.cx) < c_.half_x && std::abs(pz - c_.cz) < c_.half_z) {
+        through_[i] = 1;
+        ++through_count_;
+        mark();
+      }
+    }
+  }
+  if (c_.body_through && !body_through_ && !x.empty()) {
+    double min_y = INFINITY;
+    for (const Vec3& p : x) min_y = std::min(min_y, double(p.y()));
+    const double bx = double(body_centre.x()), bz = double(body_centre.z());
+    const bool over = bx > foot_lo_x_ && bx < foot_hi_x_ && bz > foot_lo_z_ && bz < foot_hi_z_;
+    if (over && double(body_centre.y()) + c_.body_radius < min_y) {
+      body_through_ = true;
+      mark();
+    }
+  }
+  std::copy(x.begin(), x.end(), prev_.begin());
 }
 
-bool body_through(std::span<const Vec3> x, double body_y, const TunnelCheck& c) {
-  double min_y = INFINITY;
-  for (const Vec3& p : x) min_y = std::min(min_y, double(p.y()));
-  return body_y + c.body_radius < min_y;
+double attachment_gap(const Vec3& p, const xpbd_demos::BodyPose& pose, const Vec3& local) {
+  const auto& q = pose.orientation;  // (w, x, y, z)
+  const Eigen::Quaternion<Real> r(q[0], q[1], q[2], q[3]);
+  return double((p - (pose.position + r.normalized() * local)).norm());
 }
 
 // ---------------------------------------------------------------------------
@@ -205,6 +248,38 @@ SceneSpec chain(double ratio) {
   return s;
 }
 
+// The same chain (every particle 10 g, the last one included) with a rigid
+// Bullet box of ratio x 10 g whose hook, a point kHook above the centre of
+// its top face, is attached to the chain's last particle: the box hangs below
+// the chain's end like a weight on a rope, so its rotation is coupled too. A
+// 6 cm cube (half extent 3 cm): small against the 0.1 m links, so the next
+// particle stays clear of it. The hook keeps the attached particle out of
+// the box's contact range (thickness 5 mm + margin 1 cm): XpbdWorld does
+// not exclude an attached particle from contacts with its own body, so a
+// particle attached on the surface is pushed off it by the contact while
+// the attachment pulls it back (docs/stability.md, "Limits").
+constexpr double kBoxHalf = 0.03;  // m
+constexpr double kHook = 0.03;     // m
+SceneSpec chain_box(double ratio) {
+  SceneSpec s = chain(1);
+  s.name = "stab_chain_box";
+  const Vec3 end = s.soft.particles.positions.back();
+  xpbd_demos::RigidSpec box;
+  box.name = "box";
+  box.shape.kind = xpbd_demos::ShapeKind::box;
+  box.shape.half_extents = Vec3::Constant(Real(kBoxHalf));
+  box.position = end - Vec3(0, Real(kBoxHalf + kHook), 0);
+  box.mass = Real(0.01 * ratio);
+  s.bodies.push_back(box);
+  xpbd_demos::AttachmentSpec a;
+  a.particle = xpbd::Index(s.soft.particles.positions.size() - 1);
+  a.body = 0;
+  a.local = Vec3(0, Real(kBoxHalf + kHook), 0);
+  a.compliance = 0;
+  s.attachments.push_back(a);
+  return s;
+}
+
 // The built-in trampoline with the ball's mass ratio x the cloth's 0.1 kg.
 SceneSpec trampoline(double ratio) {
   const SceneSpec* b = xpbd_demos::find_builtin_scene("trampoline");
@@ -253,8 +328,11 @@ std::vector<StabilityRun> stability_runs(bool quick) {
         r.yi = yi;
         r.spec = impact(speeds[std::size_t(yi)]);
         r.options = options(r.spec, m, dts[std::size_t(xi)].dt, 1, kIterations, 0.3);
-        // Under the plate (below its bottom face) within its footprint.
-        r.tunnel = TunnelCheck{true, -2 * kPlateHalf, 0, 0, 1, 1};
+        // Out through the plate's bottom face (y = -1 cm) within its
+        // 2 m x 2 m footprint.
+        r.tunnel.enabled = true;
+        r.tunnel.bottom_y = -2 * kPlateHalf;
+        r.tunnel.half_x = r.tunnel.half_z = 1;
         runs.push_back(std::move(r));
       }
   // Mass ratio x budget at dt = 1/60: 2 s.
@@ -277,6 +355,23 @@ std::vector<StabilityRun> stability_runs(bool quick) {
         r.yi = yi;
         r.spec = chain(ratios[std::size_t(yi)]);
         r.options = options(r.spec, m, 1.0 / 60, budgets[std::size_t(xi)].s, budgets[std::size_t(xi)].i, 2.0);
+        runs.push_back(std::move(r));
+      }
+  // Box mass ratio x budget at dt = 1/60: 2 s (the same axes).
+  for (const char* m : methods)
+    for (int xi = 0; xi < int(budgets.size()); ++xi)
+      for (int yi = 0; yi < int(ratios.size()); ++yi) {
+        StabilityRun r;
+        r.sweep = "chain_box";
+        r.method = m;
+        r.x_label = std::to_string(budgets[std::size_t(xi)].s) + "x" + std::to_string(budgets[std::size_t(xi)].i);
+        r.y_label = "r=" + fmt(ratios[std::size_t(yi)]);
+        r.xi = xi;
+        r.yi = yi;
+        r.spec = chain_box(ratios[std::size_t(yi)]);
+        r.options = options(r.spec, m, 1.0 / 60, budgets[std::size_t(xi)].s, budgets[std::size_t(xi)].i, 2.0);
+        const auto& a = r.spec.attachments.at(0);
+        r.attach = AttachCheck{true, int(a.particle), a.body, *a.local, 0.1};
         runs.push_back(std::move(r));
       }
   // Trampoline ball mass x budget at dt = 1/60: 2 s.
@@ -310,6 +405,7 @@ StabilityRow run_one(const StabilityRun& run, const Thresholds& t) {
   row.yi = run.yi;
   row.frames = run.options.frames;
   Observation ob;
+  double max_gap = 0;  // m, chain_box: the attachment's largest gap
   {
     double v0 = 0;
     for (const Vec3& v : run.spec.soft.particles.velocities) v0 = std::max(v0, double(v.norm()));
@@ -317,7 +413,17 @@ StabilityRow run_one(const StabilityRun& run, const Thresholds& t) {
     ob.reach = v0 * T + 0.5 * double(run.spec.solver.gravity.norm()) * T * T;
   }
   Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
+  TunnelTracker tunnel(run.tunnel);
+  const bool tracking = run.tunnel.enabled || run.tunnel.body_through;
   const auto t0 = std::chrono::steady_clock::now();
+  if (run.options.solver == Solver::bullet) {
+    std::string why;
+    if (!xpbd_demos::bullet_can_express(run.spec, &why)) {
+      row.outcome = "skipped";
+      row.note = "btSoftBody cannot express the scene: " + why;
+      return row;
+    }
+  }
   try {
     const auto res = xpbd_demos::run_scene(run.spec, run.options, [&](const xpbd_demos::FrameView& v) {
       if (v.frame == 0) {
@@ -339,15 +445,27 @@ StabilityRow run_one(const StabilityRun& run, const Thresholds& t) {
       ob.kinetic_max = std::max(ob.kinetic_max, m.kinetic_energy);
       ob.potential_min = std::min(ob.potential_min, m.potential_energy);
       for (const Vec3& p : v.positions) ob.max_escape = std::max(ob.max_escape, outside_distance(p, lo, hi));
-      if (run.tunnel.enabled && v.frame == run.options.frames) ob.tunnelled = particles_through(v.positions, run.tunnel);
-      if (run.tunnel.body_through && v.frame == run.options.frames && run.tunnel.body < int(v.bodies.size()) &&
-          body_through(v.positions, double(v.bodies[std::size_t(run.tunnel.body)].position.y()), run.tunnel))
-        ++ob.tunnelled;
+      if (tracking) {
+        const bool has_body = run.tunnel.body_through && run.tunnel.body < int(v.bodies.size());
+        tunnel.observe(v.positions,
+                       has_body ? v.bodies[std::size_t(run.tunnel.body)].position : Vec3(Vec3::Zero()));
+      }
+      if (run.attach.enabled) {
+        const double gap = attachment_gap(v.positions[std::size_t(run.attach.particle)],
+                                          v.bodies[std::size_t(run.attach.body)], run.attach.local);
+        ob.max_strain = std::max(ob.max_strain, gap / run.attach.scale);
+        max_gap = std::max(max_gap, gap);
+      }
+      ob.tunnelled = tunnel.count();
     });
     ob.finite = ob.finite && res.finite;
     row.frames_completed = res.frames_completed;
     const Outcome o = classify(ob, t);
     row.outcome = outcome_name(o);
+    if (tunnel.count() > 0)
+      row.note += "first through the " + std::string(run.tunnel.body_through ? "cloth" : "plate") + " at frame " +
+                  std::to_string(tunnel.first_frame());
+    if (run.attach.enabled) row.note += (row.note.empty() ? "" : "; ") + ("attachment gap max " + fmt(max_gap) + " m");
     for (const auto& n : res.notes) row.note += (row.note.empty() ? "" : "; ") + n;
   } catch (const std::exception& e) {
     // A state that has blown up (finite but ~1e50) can make a query throw
@@ -367,9 +485,6 @@ StabilityRow run_one(const StabilityRun& run, const Thresholds& t) {
   row.energy_ratio = ob.kinetic_max / budget;
   row.max_escape = ob.max_escape;
   row.tunnelled = ob.tunnelled;
-  // Keep the CSV one field per comma.
-  std::replace(row.note.begin(), row.note.end(), ',', ';');
-  std::replace(row.note.begin(), row.note.end(), '\n', ' ');
   return row;
 }
 
@@ -390,80 +505,148 @@ std::string num(double v) {
   o << v;
   return o.str();
 }
-double to_d(const std::string& s) {
+// A whole field as a number / integer, or an error naming where and what.
+double to_d(const std::string& s, const std::string& where) {
   if (s == "nan") return std::nan("");
   if (s == "inf") return INFINITY;
   if (s == "-inf") return -INFINITY;
-  return std::stod(s);
+  std::size_t pos = 0;
+  double v = 0;
+  try {
+    v = std::stod(s, &pos);
+  } catch (const std::exception&) {
+    pos = std::string::npos;
+  }
+  if (s.empty() || pos != s.size()) throw std::runtime_error(where + ": not a number: \"" + s + "\"");
+  return v;
 }
+int to_i(const std::string& s, const std::string& where) {
+  std::size_t pos = 0;
+  int v = 0;
+  try {
+    v = std::stoi(s, &pos);
+  } catch (const std::exception&) {
+    pos = std::string::npos;
+  }
+  if (s.empty() || pos != s.size()) throw std::runtime_error(where + ": not an integer: \"" + s + "\"");
+  return v;
+}
+constexpr std::size_t kFields = 15;
 }  // namespace
 
 std::string to_csv(const StabilityRow& r) {
+  using xpbd_compare::quote;
   std::ostringstream o;
-  o << r.sweep << ',' << r.method << ',' << r.x_label << ',' << r.y_label << ',' << r.xi << ',' << r.yi << ','
-    << r.outcome << ',' << r.frames << ',' << r.frames_completed << ',' << num(r.max_strain) << ','
-    << num(r.energy_ratio) << ',' << num(r.max_escape) << ',' << r.tunnelled << ',' << num(r.wall_s) << ','
-    << r.note;
+  o << quote(r.sweep) << ',' << quote(r.method) << ',' << quote(r.x_label) << ',' << quote(r.y_label) << ','
+    << r.xi << ',' << r.yi << ',' << quote(r.outcome) << ',' << r.frames << ',' << r.frames_completed << ','
+    << num(r.max_strain) << ',' << num(r.energy_ratio) << ',' << num(r.max_escape) << ',' << r.tunnelled << ','
+    << num(r.wall_s) << ',' << quote(r.note);
   return o.str();
 }
 
-std::vector<StabilityRow> read_stability_csv(const std::string& path) {
+std::vector<StabilityRow> read_stability_csv(const std::string& path, std::vector<int>* lines) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path + ": cannot open");
   std::vector<StabilityRow> rows;
+  if (lines) lines->clear();
   std::string line;
   int ln = 0;
+  bool header = false;
   while (std::getline(in, line)) {
     ++ln;
+    if (!line.empty() && line.back() == '\r') line.pop_back();  // a file saved with CRLF
     if (line.empty()) continue;
     const std::string where = path + ":" + std::to_string(ln);
-    if (ln == 1) {
-      if (line != stability_csv_header()) throw std::runtime_error(where + ": not the stability CSV header");
+    if (!header) {
+      if (line == xpbd_compare::csv_header())
+        throw std::runtime_error(where + ": this is an `xpbd-compare run` CSV (docs/results.csv), not a stability "
+                                         "CSV; use `xpbd-compare merge` for it");
+      if (line != stability_csv_header())
+        throw std::runtime_error(where + ": not the stability CSV header (expected \"" +
+                                 std::string(stability_csv_header()) + "\")");
+      header = true;
       continue;
     }
-    std::vector<std::string> f;
-    std::stringstream ss(line);
-    std::string cell;
-    while (f.size() < 14 && std::getline(ss, cell, ',')) f.push_back(cell);
-    std::string rest;
-    std::getline(ss, rest);
-    f.push_back(rest);
-    if (f.size() != 15) throw std::runtime_error(where + ": " + std::to_string(f.size()) + " fields, expected 15");
-    try {
-      StabilityRow r;
-      r.sweep = f[0];
-      r.method = f[1];
-      r.x_label = f[2];
-      r.y_label = f[3];
-      r.xi = std::stoi(f[4]);
-      r.yi = std::stoi(f[5]);
-      r.outcome = f[6];
-      r.frames = std::stoi(f[7]);
-      r.frames_completed = std::stoi(f[8]);
-      r.max_strain = to_d(f[9]);
-      r.energy_ratio = to_d(f[10]);
-      r.max_escape = to_d(f[11]);
-      r.tunnelled = std::stoi(f[12]);
-      r.wall_s = to_d(f[13]);
-      r.note = f[14];
-      rows.push_back(r);
-    } catch (const std::logic_error& e) {
-      throw std::runtime_error(where + ": malformed field (" + e.what() + ")");
+    const auto f = xpbd_compare::split_csv(line);
+    if (f.size() != kFields)
+      throw std::runtime_error(where + ": " + std::to_string(f.size()) + " fields, expected " +
+                               std::to_string(kFields) + " (a truncated last line? delete it)");
+    StabilityRow r;
+    r.sweep = f[0];
+    r.method = f[1];
+    r.x_label = f[2];
+    r.y_label = f[3];
+    r.xi = to_i(f[4], where + " xi");
+    r.yi = to_i(f[5], where + " yi");
+    r.outcome = f[6];
+    r.frames = to_i(f[7], where + " frames");
+    r.frames_completed = to_i(f[8], where + " frames_completed");
+    r.max_strain = to_d(f[9], where + " max_strain");
+    r.energy_ratio = to_d(f[10], where + " energy_ratio");
+    r.max_escape = to_d(f[11], where + " max_escape");
+    r.tunnelled = to_i(f[12], where + " tunnelled");
+    r.wall_s = to_d(f[13], where + " wall_s");
+    r.note = f[14];
+    if (r.sweep.empty() || r.method.empty() || r.outcome.empty())
+      throw std::runtime_error(where + ": empty sweep, method or outcome");
+    rows.push_back(std::move(r));
+    if (lines) lines->push_back(ln);
+  }
+  if (!header) throw std::runtime_error(path + ":1: empty file, expected the stability CSV header");
+  return rows;
+}
+
+std::vector<StabilityRow> merge_stability(const std::vector<std::string>& inputs) {
+  struct Seen {
+    std::size_t index;  // into rows
+    std::string where;  // file:line
+  };
+  std::vector<StabilityRow> rows;
+  std::map<std::string, Seen> seen;
+  for (const auto& path : inputs) {
+    std::vector<int> lines;
+    const auto part = read_stability_csv(path, &lines);
+    for (std::size_t k = 0; k < part.size(); ++k) {
+      const std::string where = path + ":" + std::to_string(lines[k]);
+      const auto it = seen.find(part[k].key());
+      if (it == seen.end()) {
+        seen.emplace(part[k].key(), Seen{rows.size(), where});
+        rows.push_back(part[k]);
+      } else if (rows[it->second.index].outcome != part[k].outcome) {
+        throw std::runtime_error(where + ": " + part[k].key() + " is " + part[k].outcome + " here but " +
+                                 rows[it->second.index].outcome + " at " + it->second.where +
+                                 " (the same run twice with different outcomes; drop one)");
+      }
     }
   }
+  // In the sweep's order; rows not in it (another version's runs) last.
+  std::map<std::string, std::size_t> order;
+  for (const auto& r : stability_runs(false)) order.emplace(r.key(), order.size());
+  auto rank = [&](const StabilityRow& r) {
+    const auto it = order.find(r.key());
+    return it == order.end() ? order.size() : it->second;
+  };
+  std::stable_sort(rows.begin(), rows.end(),
+                   [&](const StabilityRow& a, const StabilityRow& b) { return rank(a) < rank(b); });
   return rows;
 }
 
 // ---------------------------------------------------------------------------
 // The subcommand.
 
-int cmd_run(const std::string& out, bool quick, const std::string& shard) {
+int cmd_run(const std::string& out, bool quick, const std::string& shard, const std::vector<std::string>& sweeps) {
   int si = 0, sn = 1;
   if (!shard.empty() && (std::sscanf(shard.c_str(), "%d/%d", &si, &sn) != 2 || sn < 1 || si < 0 || si >= sn)) {
     std::cerr << "--shard: expected i/n with 0 <= i < n, got \"" << shard << "\"\n";
     return 2;
   }
   const auto runs = stability_runs(quick);
+  for (const auto& name : sweeps)
+    if (std::none_of(runs.begin(), runs.end(), [&](const StabilityRun& r) { return r.sweep == name; })) {
+      std::cerr << "--sweeps: unknown sweep \"" << name << "\" (dt_stiffness, impact, mass_ratio, chain_box, "
+                   "trampoline)\n";
+      return 2;
+    }
   // Drop a last line cut off by an interruption (that run is redone).
   if (std::filesystem::exists(out)) {
     std::string text;
@@ -482,7 +665,9 @@ int cmd_run(const std::string& out, bool quick, const std::string& shard) {
     for (const auto& r : read_stability_csv(out)) done.insert(r.key());
   std::vector<const StabilityRun*> todo;
   for (std::size_t k = 0; k < runs.size(); ++k)
-    if (int(k % std::size_t(sn)) == si && !done.count(runs[k].key())) todo.push_back(&runs[k]);
+    if (int(k % std::size_t(sn)) == si && !done.count(runs[k].key()) &&
+        (sweeps.empty() || std::find(sweeps.begin(), sweeps.end(), runs[k].sweep) != sweeps.end()))
+      todo.push_back(&runs[k]);
   std::cerr << "xpbd-compare stability: " << runs.size() << " runs in the sweep, " << todo.size()
             << " to do in this shard (" << done.size() << " already in " << out << ")\n";
   std::ofstream csv(out, std::ios::app);
@@ -503,29 +688,53 @@ int cmd_run(const std::string& out, bool quick, const std::string& shard) {
   return 0;
 }
 
+int cmd_merge(const std::vector<std::string>& inputs, const std::string& out) {
+  const auto rows = merge_stability(inputs);
+  const std::string tmp = out + ".tmp";
+  {
+    std::ofstream o(tmp);
+    o << stability_csv_header() << '\n';
+    for (const auto& r : rows) o << to_csv(r) << '\n';
+    if (!o) {
+      std::cerr << tmp << ": write failed\n";
+      return 1;
+    }
+  }
+  std::filesystem::rename(tmp, out);
+  std::cerr << "xpbd-compare stability merge: " << rows.size() << " runs from " << inputs.size() << " file(s) -> "
+            << out << "\n";
+  return 0;
+}
+
 int cmd_report(const std::string& csv_path, const std::string& docs, const std::string& gp_dir) {
   const auto rows = read_stability_csv(csv_path);
   std::filesystem::create_directories(gp_dir);
-  const char* sweeps[] = {"dt_stiffness", "impact", "mass_ratio", "trampoline"};
+  const char* sweeps[] = {"dt_stiffness", "impact", "mass_ratio", "chain_box", "trampoline"};
   const char* titles[] = {"time step x stiffness (16x16 hanging cloth)", "impact speed (m/s) x time step",
-                          "chain mass ratio x budget (substeps x iterations)",
+                          "chain, heavy end particle: mass ratio x budget",
+                          "chain + attached rigid box: mass ratio x budget",
                           "trampoline ball mass ratio x budget"};
+  constexpr int kSweeps = sizeof(sweeps) / sizeof(sweeps[0]);
   const char* methods[] = {"xpbd", "pbd", "bullet"};
   const std::map<std::string, int> code = {{"stable", 0},   {"over_stretched", 1}, {"exploded", 2},
-                                           {"nan", 3},      {"tunnelled", 4},      {"error", 5}};
+                                           {"nan", 3},      {"tunnelled", 4},      {"error", 5},
+                                           {"skipped", 6}};
   std::ostringstream md;
   md << "<!-- generated by `xpbd-compare stability report` from docs/stability.csv -->\n"
-     << "Cells: S stable, O over-stretched, E exploded, N NaN, T tunnelled, ! error, . not run.\n\n";
-  const char letter[] = {'S', 'O', 'E', 'N', 'T', '!'};
+     << "Cells: S stable, O over-stretched, E exploded, N NaN, T tunnelled, ! error, - skipped (the method "
+        "cannot express the scene), . not run.\n\n";
+  const char letter[] = {'S', 'O', 'E', 'N', 'T', '!', '-'};
   for (const char* m : methods) {
     std::ofstream gp(gp_dir + "/stability_" + m + ".gp");
-    gp << "set terminal pngcairo size 2000,480 noenhanced\nset output '" << docs << "/stability_" << m
+    gp << "set terminal pngcairo size " << 500 * kSweeps << ",480 noenhanced\nset output '" << docs << "/stability_" << m
        << ".png'\n"
-       << "set palette defined (0 '#2ca02c', 1 '#ffbf00', 2 '#d62728', 3 '#000000', 4 '#1f77b4', 5 '#aaaaaa')\n"
-       << "set palette maxcolors 6\nset cbrange [-0.5:5.5]\n"
-       << "set cbtics ('stable' 0, 'over-stretched' 1, 'exploded' 2, 'NaN' 3, 'tunnelled' 4, 'error' 5)\n"
-       << "unset key\nset multiplot layout 1,4 title '" << m << ": stability map'\n";
-    for (int s = 0; s < 4; ++s) {
+       << "set palette defined (0 '#2ca02c', 1 '#ffbf00', 2 '#d62728', 3 '#000000', 4 '#1f77b4', 5 '#aaaaaa', "
+          "6 '#eeeeee')\n"
+       << "set palette maxcolors 7\nset cbrange [-0.5:6.5]\n"
+       << "set cbtics ('stable' 0, 'over-stretched' 1, 'exploded' 2, 'NaN' 3, 'tunnelled' 4, 'error' 5, "
+          "'skipped' 6)\n"
+       << "unset key\nset multiplot layout 1," << kSweeps << " title '" << m << ": stability map'\n";
+    for (int s = 0; s < kSweeps; ++s) {
       std::map<int, std::string> xl, yl;
       std::map<std::pair<int, int>, int> cell;
       for (const auto& r : rows)

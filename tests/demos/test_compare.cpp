@@ -147,6 +147,46 @@ TEST(CompareCsv, RoundTripAndResumeKey) {
   EXPECT_FALSE(rms_error_at(rows[0], 1.0).has_value());
 }
 
+// The reference file the float sweep reads: every bit of a double survives
+// the round trip (17 significant digits), so a float run is compared with the
+// double reference itself; a missing file, another scene's file and another
+// particle count are errors naming the file.
+TEST(CompareReferenceFile, RoundTripAndErrors) {
+  const auto dir = std::filesystem::temp_directory_path() / "xpbd_test_compare_ref";
+  std::filesystem::remove_all(dir);
+  Snapshots s;
+  s[15] = {Vec3(Real(0.1), Real(-1) / Real(3), Real(2.5e-7)), Vec3(Real(-7), Real(1e3), Real(0))};
+  s[120] = {Vec3(Real(1), Real(2), Real(3)), Vec3(std::numeric_limits<Real>::min(), Real(-0.0), Real(1) / Real(7))};
+  write_reference(dir.string(), "scene_a", {s, 0.0123});
+  const ReferenceData rd = read_reference(dir.string(), "scene_a", 2);
+  EXPECT_EQ(rd.final_mean_strain, 0.0123);
+  const Snapshots& back = rd.snaps;
+  ASSERT_EQ(back.size(), 2u);
+  for (const auto& [f, x] : s) {
+    ASSERT_TRUE(back.count(f));
+    for (std::size_t i = 0; i < x.size(); ++i)
+      for (int c = 0; c < 3; ++c) EXPECT_EQ(back.at(f)[i][c], x[i][c]) << "frame " << f << " particle " << i;
+  }
+  auto message = [&](const std::string& scene, std::size_t n) {
+    try {
+      read_reference(dir.string(), scene, n);
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message("scene_b", 2).find("scene_b.ref: cannot open"), std::string::npos);
+  std::filesystem::copy_file(dir / "scene_a.ref", dir / "scene_b.ref");
+  EXPECT_NE(message("scene_b", 2).find("not the xpbd-compare reference of scene scene_b"), std::string::npos);
+  EXPECT_NE(message("scene_a", 3).find("2 particles, the scene has 3"), std::string::npos);
+  {
+    std::ofstream o(dir / "scene_c.ref");
+    o << "xpbd-compare reference scene_c 1 2 0\nframe 15\n1 2 3\n4 5\n";
+  }
+  EXPECT_NE(message("scene_c", 2).find("frame 15, particle 1: expected 3 numbers"), std::string::npos);
+  std::filesystem::remove_all(dir);
+}
+
 // The cheapest setting meeting a target, on hand-made rows whose answer is
 // known: the 64x64 run that meets the target is slower than a 32x32 run that
 // also meets it, a faster run misses the target, a non-finite run and the
