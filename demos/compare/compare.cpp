@@ -80,13 +80,13 @@ std::vector<CompareScene> compare_scenes(bool quick) {
     c.solver.frames = frames;
     return c;
   };
-  // A scene with a run reference; `rigid`: the reference steps the rigid
-  // bodies at every substep (scenes with a dynamic body).
+  // A scene with a run reference; `rigid`: XPBD/PBD runs and the reference
+  // step the rigid bodies at every substep (scenes with a dynamic body).
   auto scene = [](std::string id, SceneSpec spec, bool rigid = false) {
     CompareScene c;
     c.id = std::move(id);
     c.spec = std::move(spec);
-    c.reference_rigid_substeps = rigid;
+    c.rigid_substeps = rigid;
     return c;
   };
   v.push_back(scene("hanging_cloth_32", builtin("hanging_cloth")));
@@ -99,7 +99,7 @@ std::vector<CompareScene> compare_scenes(bool quick) {
     v.push_back(scene("hanging_cloth_64", c));
   }
   // Scenes with a dynamic body (cloth_on_sphere's light box, the
-  // trampoline's ball): the reference steps it at every substep.
+  // trampoline's ball): stepped at every substep (CompareScene::rigid_substeps).
   v.push_back(scene("cloth_on_sphere", builtin("cloth_on_sphere"), true));
   {
     ChainParams p;
