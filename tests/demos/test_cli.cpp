@@ -101,6 +101,43 @@ TEST(Cli, DumpPrintsASceneFileThatRunsAsIs) {
   EXPECT_EQ(m.at("finite"), true);
 }
 
+// --stages as a user runs it: the table on stdout and stage_ms_per_frame in
+// metrics.json list the stages the hanging cloth uses (prediction, distance,
+// pins, velocity update) and none it does not (no contacts, no bodies, no
+// other constraint type: the scene has no rigid bodies and only distance
+// elements and pins); a btSoftBody run says it has no stage times.
+TEST(Cli, StagesListOnlyTheStagesTheSceneUses) {
+  const fs::path dir = scratch("stages");
+  const Result r = run({"hanging_cloth", "--solver", "xpbd", "--frames", "3", "--stages", "--no-preview", "--out",
+                        (dir / "o").string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("stage times, xpbd"), std::string::npos) << r.out;
+  const auto m = nlohmann::json::parse(slurp(dir / "o" / "metrics.json"));
+  ASSERT_TRUE(m.contains("stage_ms_per_frame")) << m.dump();
+  const auto& st = m.at("stage_ms_per_frame");
+  for (const char* used : {"predict", "distance", "pin", "velocity"}) {
+    bool found = false;
+    for (const auto& [name, ms] : st.items())
+      if (name.rfind(used, 0) == 0) {
+        found = true;
+        EXPECT_GE(ms.get<double>(), 0) << name;
+        EXPECT_NE(r.out.find(name), std::string::npos) << name << " not printed";
+      }
+    EXPECT_TRUE(found) << used << " missing from " << st.dump();
+  }
+  for (const auto& [name, ms] : st.items())
+    for (const char* unused : {"contact", "bod", "bending", "tet_volume", "global_volume", "collision", "tether",
+                               "attachment", "self_collision", "shadow"})
+      EXPECT_EQ(name.find(unused), std::string::npos) << "stage " << name << " in a scene without " << unused;
+
+  const Result b = run({"hanging_cloth", "--solver", "bullet", "--frames", "2", "--stages", "--no-preview", "--out",
+                        (dir / "b").string()});
+  ASSERT_EQ(b.status, 0) << b.err;
+  const auto mb = nlohmann::json::parse(slurp(dir / "b" / "metrics.json"));
+  EXPECT_FALSE(mb.contains("stage_ms_per_frame"));
+  EXPECT_NE(mb.at("notes").dump().find("stage_times: not available"), std::string::npos) << mb.at("notes").dump();
+}
+
 TEST(Cli, BadCommandLineExitsWithStatus2) {
   EXPECT_EQ(run({"no_such_scene", "--frames", "1"}).status, 2);
   EXPECT_EQ(run({"--dump", "no_such_scene"}).status, 2);
