@@ -194,9 +194,9 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
     // 3. Solve: `iterations` Gauss-Seidel sweeps over all constraints.
     for (int it = 0; it < cfg.iterations; ++it) {
       // StepConfig::alternate_sweeps: every other sweep, counted across
-      // substeps (so that one iteration per substep alternates too), runs
-      // last to first.
-      sc.reverse = cfg.alternate_sweeps && ((sub * cfg.iterations + it) & 1) != 0;
+      // substeps and across steps (State::sweeps; so that one iteration per
+      // substep, and one substep per step, alternate too), runs last to first.
+      sc.reverse = cfg.alternate_sweeps && ((s.sweeps + std::uint64_t(sub * cfg.iterations + it)) & 1) != 0;
       solve_constraints(m, s, sc, cfg.coloured, t);
       timed(t, stage::self_collision_solve, !s.self_collision.pairs.empty(),
             [&] { solve_self_collisions(m, s, sc); });
@@ -216,6 +216,7 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
           [&] { rigid::contact_velocities(m, s, h, cfg.gravity.norm()); });
   }
   s.pin_target_prev = s.pin_target;  // same size: no allocation
+  s.sweeps += std::uint64_t(cfg.substeps) * std::uint64_t(cfg.iterations);
   s.time += cfg.dt;
   s.last_substep = h;
   if (t != nullptr) ++t->steps;

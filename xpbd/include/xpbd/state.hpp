@@ -1,6 +1,7 @@
 #pragma once
 // State: what a scene *does*. One per simulated instance; mutable.
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "xpbd/constraint_types.hpp"
@@ -57,6 +58,10 @@ struct State {
 
   Real time = 0;          // s, simulated time
   Real last_substep = 0;  // s, h of the last substep (for force estimates)
+  // Gauss-Seidel sweeps run so far (StepConfig::alternate_sweeps counts its
+  // parity across step() calls, so that a host stepping one substep of one
+  // iteration at a time still alternates).
+  std::uint64_t sweeps = 0;
 
   template <class T>
   std::vector<Real>& lambdas() {

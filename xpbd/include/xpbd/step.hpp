@@ -18,8 +18,9 @@ struct StepConfig {
   Vec3 gravity{Real(0), Real(-9.81), Real(0)};  // m/s^2
   // Velocity damping rate (1/s): v *= exp(-drag*h) every substep. 0 = none.
   Real drag = 0;
-  // Symmetric Gauss-Seidel: every other sweep (counted across substeps)
-  // visits the elements of each constraint type last to first. Off by
+  // Symmetric Gauss-Seidel: every other sweep (counted across substeps and
+  // across step() calls, State::sweeps) visits the elements of each
+  // constraint type last to first. Off by
   // default. A fixed order lets the elements solved first win every sweep;
   // where the solve does not converge, that pushes the solution towards one
   // side of the mesh (a heavy ball on a grid cloth walks towards the rows
