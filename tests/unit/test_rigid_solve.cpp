@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "xpbd/xpbd.hpp"
@@ -124,6 +125,65 @@ TEST(RigidSolve, BadContactIndexIsAConfigErrorNamingIt) {
     FAIL() << "expected ConfigError";
   } catch (const xpbd::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("contacts[0].body: index 3"), std::string::npos) << e.what();
+  }
+}
+
+// A body's own acceleration enters every substep before the move, as the
+// particles' gravity does: after n substeps of h from (x0, v0),
+//   v_n = v0 + n h a,  x_n = x0 + n h v0 + h^2 a n (n+1)/2  (symplectic Euler).
+// Angular: w_n = w0 + n h alpha. A static body (inv_mass 0) ignores both.
+TEST(RigidSolve, BodyAccelerationFollowsSymplecticEulerPerSubstep) {
+  xpbd::SceneDesc scene;
+  scene.add_particle(Vec3(5, 5, 5), 1);  // far away: no interaction
+  const xpbd::Model m = xpbd::compile(scene);
+  xpbd::State s = xpbd::make_state(m);
+  xpbd::RigidBody b;
+  b.x = Vec3(0, 1, 0);
+  b.v = Vec3(0.5, 0, 0);
+  b.inv_mass = Real(0.25);
+  b.inv_inertia = Vec3(1, 1, 1);
+  b.accel = Vec3(0, -9.81, 2);
+  b.ang_accel = Vec3(0, 0, 3);
+  s.bodies.push_back(b);
+  xpbd::RigidBody fixed = b;
+  fixed.inv_mass = 0;
+  fixed.inv_inertia = Vec3::Zero();
+  s.bodies.push_back(fixed);
+  xpbd::StepConfig cfg;
+  cfg.gravity = Vec3::Zero();
+  cfg.substeps = 7;
+  xpbd::step(m, s, cfg);
+  const int n = cfg.substeps;
+  const Real h = cfg.dt / Real(n);
+  const Vec3 v = b.v + Real(n) * h * b.accel;
+  const Vec3 x = b.x + Real(n) * h * b.v + h * h * b.accel * Real(n * (n + 1)) / 2;
+  const Real tol = Real(1e3) * std::numeric_limits<Real>::epsilon();
+  // v is read back as (x - x_prev)/h: round-off of |x|/h.
+  EXPECT_LT((s.bodies[0].v - v).norm(), tol * x.norm() / h);
+  EXPECT_LT((s.bodies[0].x - x).norm(), tol * x.norm());
+  // w is read back from the rotation of the last substep, (2/h) vec(q q_prev^-1),
+  // which is w (1 + O((w h)^2)): (w h)^2 ~ 1e-8 here.
+  const Real w = Real(n) * h * Real(3);
+  EXPECT_NEAR(s.bodies[0].w.z(), w, Real(1e-6) * w);
+  EXPECT_LT((s.bodies[1].x - (b.x + cfg.dt * b.v)).norm(), tol);  // moves with v only
+  EXPECT_LT((s.bodies[1].v - b.v).norm(), tol);
+  EXPECT_EQ(s.bodies[1].w, Vec3::Zero());
+}
+
+TEST(RigidSolve, NonFiniteBodyAccelerationIsAConfigError) {
+  xpbd::SceneDesc scene;
+  scene.add_particle(Vec3::Zero(), 1);
+  const xpbd::Model m = xpbd::compile(scene);
+  xpbd::State s = xpbd::make_state(m);
+  xpbd::RigidBody b;
+  b.inv_mass = 1;
+  b.accel = Vec3(0, std::numeric_limits<Real>::quiet_NaN(), 0);
+  s.bodies.push_back(b);
+  try {
+    xpbd::step(m, s, xpbd::StepConfig{});
+    FAIL() << "expected ConfigError";
+  } catch (const xpbd::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("state.bodies[0]"), std::string::npos) << e.what();
   }
 }
 

@@ -53,10 +53,11 @@ void begin_step(const Model& m, State& s) {
     const RigidBody& b = s.bodies[k];
     if (!(b.inv_mass >= Real(0)) || !std::isfinite(b.inv_mass) || !b.inv_inertia.allFinite() ||
         (b.inv_inertia.array() < Real(0)).any() || !b.x.allFinite() || !b.v.allFinite() ||
-        !b.w.allFinite() || !b.q.coeffs().allFinite())
+        !b.w.allFinite() || !b.q.coeffs().allFinite() || !b.accel.allFinite() ||
+        !b.ang_accel.allFinite())
       throw ConfigError("state.bodies[" + std::to_string(k) +
-                        "]: pose, velocities and inverse mass/inertia must be finite and "
-                        "inverse mass/inertia >= 0");
+                        "]: pose, velocities, accelerations and inverse mass/inertia must be "
+                        "finite and inverse mass/inertia >= 0");
   }
   auto check = [&](const char* what, std::size_t k, Index p, Index b) {
     if (p < 0 || p >= np)
@@ -95,6 +96,10 @@ void predict_bodies(std::vector<RigidBody>& bodies, Real h) {
   for (RigidBody& b : bodies) {
     b.x_prev = b.x;
     b.q_prev = b.q;
+    if (b.inv_mass > Real(0)) {
+      b.v += h * b.accel;
+      b.w += h * b.ang_accel;
+    }
     b.x += h * b.v;
     const Quat dq(Real(0), b.w.x(), b.w.y(), b.w.z());
     b.q.coeffs() += (Real(0.5) * h) * (dq * b.q).coeffs();

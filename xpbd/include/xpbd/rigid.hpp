@@ -29,6 +29,13 @@ struct RigidBody {
   Vec3 w = Vec3::Zero();           // rad/s, angular velocity, world frame
   Real inv_mass = 0;               // 1/kg; 0 = static or kinematic
   Vec3 inv_inertia = Vec3::Zero(); // 1/(kg m^2), principal axes of the body frame
+  // Added to v and w at the start of every substep (symplectic Euler, as the
+  // particles' gravity), for dynamic bodies only (inv_mass > 0): the host's
+  // forces over the body's mass (gravity included), and its torques through
+  // the world-frame inverse inertia. Zero: the host has already put them into
+  // v and w (or there are none).
+  Vec3 accel = Vec3::Zero();       // m/s^2, world
+  Vec3 ang_accel = Vec3::Zero();   // rad/s^2, world
   // Pose at the start of the current substep (written by step()).
   Vec3 x_prev = Vec3::Zero();
   Quat q_prev = Quat::Identity();

@@ -16,7 +16,8 @@ void begin_step(const Model& m, State& s);
 // multipliers. Call before predict.
 void begin_substep(const Model& m, State& s);
 
-// x_prev = x, q_prev = q, then x += h v, q += h/2 [w, 0] q (normalized).
+// x_prev = x, q_prev = q; for dynamic bodies v += h accel, w += h ang_accel;
+// then x += h v, q += h/2 [w, 0] q (normalized).
 void predict_bodies(std::vector<RigidBody>& bodies, Real h);
 
 // One Gauss-Seidel pass over body attachments, then body contacts (normal
