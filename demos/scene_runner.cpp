@@ -382,6 +382,9 @@ class XpbdSim : public SoftSim {
 
   bool step_frame() override {
     for (int k = 0; k < rigid_steps_; ++k) rw_.step(dt_);
+    // XpbdWorld throws nothing out of stepSimulation: a failed step is
+    // recorded. Report it as the step's exception (run_scene classifies it).
+    if (const std::string& e = world_.error(id_); !e.empty()) throw std::invalid_argument(e);
     const xpbd::State& s = world_.state(id_);
     return all_finite(s.x) && all_finite(s.v) && rw_.finite();
   }

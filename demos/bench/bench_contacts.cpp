@@ -18,14 +18,14 @@
 //   xpbd_step/with_contacts  the same step with the contacts (and body
 //                            shadows) the bridge generated from the snapshot:
 //                            the cost of solving them;
-//   bridge_step/brute_force  XpbdWorld::updateAction, i.e. what Bullet runs
+//   bridge_step/brute_force  XpbdWorld::pre_solve + updateAction, i.e. what Bullet runs
 //                            per internal step (broadphase candidates,
 //                            particle-body queries, the step, the coupling),
 //                            with ContactSettings::cull = false: every
 //                            (particle, candidate) pair is queried, as before
 //                            the culling existed;
 //   bridge_step/culled       the same with cull = true (the default);
-//   contact_generation/...   the time updateAction spends finding the
+//   contact_generation/...   the time pre_solve spends finding the
 //                            contacts (XpbdWorld measures it around that
 //                            code: StepStats::contact_seconds, wall clock),
 //                            and as a cross-check bridge_step/... minus
@@ -136,6 +136,7 @@ struct Scene {
     auto bridge_step = [&](bool cull, xpbd_bullet::StepStats& stats) {
       xw->state(id) = snapshot;
       xw->settings(id).contacts.cull = cull;
+      xw->pre_solve(kDt);
       xw->updateAction(&world, kDt);
       stats = xw->last_stats();
       State out = xw->state(id);
@@ -220,7 +221,7 @@ void BM_xpbd_step(benchmark::State& bs, bool contacts) {
   finish(bs, ns);
 }
 
-// XpbdWorld::updateAction: what Bullet calls once per internal step, with
+// XpbdWorld::pre_solve + updateAction: what Bullet calls once per internal step, with
 // ContactSettings::cull on or off. Also reports the contact generation time
 // XpbdWorld measures itself (StepStats::contact_seconds, wall clock).
 void BM_bridge_step(benchmark::State& bs, bool cull) {
@@ -230,6 +231,7 @@ void BM_bridge_step(benchmark::State& bs, bool cull) {
   for (auto _ : bs) {
     s.xw->state(s.id) = s.snapshot;  // restore (untimed): same sizes, no allocation
     const double t0 = thread_seconds();
+    s.xw->pre_solve(kDt);
     s.xw->updateAction(&s.world, kDt);
     benchmark::ClobberMemory();
     const double dt = thread_seconds() - t0;
@@ -290,7 +292,7 @@ class SummaryReporter : public benchmark::ConsoleReporter {
     row("contact_solve (with - no_contacts)", with - ref);
     if (brute > 0) row("bridge_step/brute_force", brute);
     if (culled > 0) row("bridge_step/culled", culled);
-    // Measured inside updateAction, around the contact search only.
+    // Measured inside pre_solve, around the contact search only.
     const double gen_brute = get("bridge_step/brute_force", true);
     const double gen_culled = get("bridge_step/culled", true);
     if (gen_brute > 0) row("contact_generation/brute_force (timed, wall)", gen_brute);

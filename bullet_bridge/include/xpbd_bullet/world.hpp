@@ -1,30 +1,48 @@
 #pragma once
-// XpbdWorld: runs xpbd particle systems inside a user's Bullet world.
+// XpbdWorld: runs xpbd particle systems inside a user's Bullet world, coupled
+// both ways with its rigid bodies (docs/bullet-bridge.md).
 //
-// Hook: a btActionInterface (see docs/bullet-bridge.md). Bullet calls
-// updateAction() once per internal step, after it has integrated the rigid
-// bodies; XpbdWorld then runs `substeps` XPBD substeps of that internal step's
-// dt for every system it holds. Works in any btDiscreteDynamicsWorld,
-// including btSoftRigidDynamicsWorld, next to btSoftBody bodies.
+// Hook: pre-solve coupling. XpbdWorld installs Bullet's pre-tick callback
+// (btDynamicsWorld::setInternalTickCallback(..., isPreTick = true)), chained:
+// a pre-tick callback the application had installed still runs, first, and
+// the world's user info is left as it was. So XPBD runs in every internal
+// step *before* Bullet's collision detection, constraint solver and
+// integration, which then see what XPBD did to the rigid bodies. XpbdWorld is
+// also an action (btActionInterface), which Bullet runs after integration:
+// there it applies the residual below. Works in any btDiscreteDynamicsWorld,
+// including btSoftRigidDynamicsWorld next to btSoftBody bodies.
 //
-// Per internal step:
+// Per internal step of dt (pre_solve):
 //   1. gravity: read from the world (world->getGravity()) every step;
-//   2. candidates: Bullet's broadphase, over each system's AABB swept over
-//      the step and grown by the contact margin;
-//   3. contacts: one query per (particle, candidate) against the body's pose
-//      at the start of the step (narrowphase.hpp), plus a sweep for particles
-//      that travel farther than the margin; stored in the body's frame and
-//      re-projected every substep. Pairs whose boxes are apart (the
-//      particle's reach against the body's AABB) are culled first, which
-//      never drops a contact (ContactSettings::cull, world.cpp);
+//   2. candidates: Bullet's broadphase (AABBs brought up to date first), over
+//      each system's AABB swept over the step and grown by the contact margin;
+//   3. contacts: one query per (particle, candidate) against the body where
+//      its shape is (a dynamic body at its start pose), plus a sweep for
+//      particles that travel farther than the margin; stored in the body's
+//      frame and re-projected every substep. Pairs whose boxes are apart are
+//      culled first, which never drops a contact (ContactSettings::cull);
 //   4. shadow bodies: each touched or attached rigid body starts at its pose
-//      at the start of the step (end pose minus one step of its velocity:
-//      Bullet's integrator is x1 = x0 + dt v1) and moves with its velocity
-//      (which already holds gravity) plus the contact corrections;
+//      at the start of the step with the velocity Bullet will damp it to,
+//      gains its forces over its mass (gravity included: getTotalForce) in
+//      every substep, and takes the contact and attachment corrections;
 //   5. xpbd::step() for each system;
-//   6. coupling: every dynamic body receives the change of its shadow's
-//      linear and angular velocity as applyCentralImpulse/applyTorqueImpulse,
-//      its position correction, and is woken.
+//   6. hand-over, for every dynamic body some system coupled: its velocity is
+//      set so that, after Bullet's damping and forces, it equals the shadow's
+//      end velocity (Bullet's contacts and joints then act on top of it); the
+//      residual (the shadow's end pose minus the pose Bullet's integration
+//      reaches from that velocity, translation and rotation, zero for a body
+//      at rest) is applied after integration, in updateAction.
+// A coupled body therefore moves as the same body solved by XPBD at the
+// substep, plus the changes of Bullet's own contacts and joints.
+//
+// One XpbdWorld per Bullet world (a second one is refused). If the
+// application installs its own pre-tick callback after the XpbdWorld, the
+// next updateAction finds the hook gone: it chains the new callback, puts its
+// own back, and runs that one step late (StepStats::late).
+//
+// Errors: nothing is thrown out of stepSimulation. A system whose step fails
+// (bad settings edited between steps, a state so far blown up that a query
+// refuses it) is no longer stepped; error(id) says why.
 //
 // Rigid bodies may be removed from the world between steps: contacts and
 // shadow bodies are rebuilt every step, so nothing about a removed body is
@@ -38,6 +56,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "xpbd/model.hpp"
@@ -86,10 +105,11 @@ struct SystemTimes {
   //             shadow bodies of the bodies touched (when contacts are enabled);
   //   shadows   the attachments' shadow bodies and the bodies' contact-free
   //             reference motion (when the system has bodies);
-  //   coupling  shadow changes -> impulses and position corrections on the
-  //             dynamic bodies (when there are bodies; the per-body impulse
-  //             application is shared by all systems, and its time is added
-  //             to every timed system with bodies).
+  //   coupling  shadow changes -> the dynamic bodies' velocities before
+  //             Bullet's solver and the residual poses after its integration
+  //             (when there are bodies; the per-body hand-over is shared by
+  //             all systems, and its time is added to every timed system
+  //             with bodies).
   enum Stage : std::size_t { contacts, shadows, coupling, count };
   std::array<std::int64_t, count> ns{};     // ns
   std::array<std::int64_t, count> calls{};  // runs with work
@@ -124,12 +144,16 @@ struct StepStats {
   double contact_seconds = 0;
   int triangle_contacts = 0;  // rigid feature - soft triangle contacts created
   int shadows = 0;     // shadow bodies
+  int coupled = 0;     // dynamic bodies handed a change (velocity and residual)
+  int late = 0;        // 1 if this step ran from updateAction because the pre-tick hook had been replaced
+  int failed = 0;      // systems whose step failed in this step (error(id) says why)
 };
 
 class XpbdWorld : public btActionInterface {
  public:
-  // Adds itself to `world` as an action; removes itself in the destructor.
-  // The world must outlive this object.
+  // Installs the pre-tick hook (chained) and adds itself to `world` as an
+  // action; both are removed in the destructor. The world must outlive this
+  // object. Throws xpbd::ConfigError if `world` already has an XpbdWorld.
   explicit XpbdWorld(btDiscreteDynamicsWorld& world);
   ~XpbdWorld() override;
   XpbdWorld(const XpbdWorld&) = delete;
@@ -151,6 +175,11 @@ class XpbdWorld : public btActionInterface {
              xpbd::Real compliance = 0);
   void remove_attachment(int attachment_id);
 
+  // Why system `id`'s step failed ("" while it has not): the system is then
+  // frozen, and nothing was thrown out of stepSimulation. Throws
+  // std::out_of_range for an unknown id.
+  const std::string& error(int id) const;
+
   xpbd::State& state(int id);
   const xpbd::State& state(int id) const;
   const xpbd::Model& model(int id) const;
@@ -158,7 +187,14 @@ class XpbdWorld : public btActionInterface {
 
   const StepStats& last_stats() const { return stats_; }
 
-  // btActionInterface
+  // One internal step of XPBD before Bullet's solver: the systems' steps and
+  // the hand-over of velocities (see the top of this file). The pre-tick hook
+  // calls it; call it yourself only to drive the bridge without Bullet's
+  // stepSimulation (benchmarks), followed by updateAction after moving the
+  // bodies.
+  void pre_solve(btScalar dt);
+
+  // btActionInterface: after Bullet's integration, applies the residual poses.
   void updateAction(btCollisionWorld* world, btScalar dt) override;
   void debugDraw(btIDebugDraw*) override {}
 
@@ -166,9 +202,19 @@ class XpbdWorld : public btActionInterface {
   struct System;
   struct Attachment;
   struct Shadow;
+  struct Residual;
+  struct Predicted;
+  static void pre_tick(btDynamicsWorld* world, btScalar dt);  // the hook
+  bool hook_installed() const;
+  void install_hook();
   System& system(int id);
   const System& system(int id) const;
+  // Steps every system that has not failed (shadows_ filled, stats_ reset).
+  void run_systems(btScalar dt);
   void step_system(System& s, btScalar dt);
+  // Hands the coupled bodies' changes to Bullet (velocities now, residual
+  // poses into residuals_ for updateAction).
+  void hand_over(btScalar dt, bool late);
   // Index into shadows_ of obj's shadow, created on first use in a step.
   int shadow_for(const btCollisionObject* obj, btScalar dt);
   // Index into State::bodies of obj's shadow for system s (added on first use).
@@ -182,6 +228,10 @@ class XpbdWorld : public btActionInterface {
   int next_id_ = 0;
   int next_attachment_ = 0;
   StepStats stats_;
+  btInternalTickCallback chained_ = nullptr;  // the application's pre-tick callback, run first
+  bool pre_solved_ = false;  // pre_solve ran in the current internal step
+  std::vector<Residual> residuals_;  // applied by the next updateAction
+  std::vector<Predicted> predicted_;  // Bullet's contact accelerations of the last step
   // Scratch, reused across steps.
   std::vector<const btCollisionObject*> candidates_;
   std::vector<Shadow> shadows_;  // bodies touched in the current internal step

@@ -1,0 +1,386 @@
+// XpbdWorld's per-system work inside one internal step: the shadow bodies,
+// the contact search (broadphase, culling, narrowphase, rigid features
+// against soft triangles) and the XPBD step, with each dynamic body's change
+// summed for the hand-over (world.cpp).
+#include <LinearMath/btTransformUtil.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "world_impl.hpp"
+#include "xpbd/rigid_solve.hpp"
+#include "xpbd/step.hpp"
+#include "xpbd_bullet/narrowphase.hpp"
+
+namespace xpbd_bullet {
+namespace {
+
+// Sharp feature points of a shape in the frame `t` (body frame): box corners
+// and points along box edges no more than `spacing` apart, the vertices of
+// other polyhedral shapes (hulls), recursively for compounds. Smooth shapes
+// (sphere, capsule, cylinder, cone) and meshes have none.
+void collect_features(const btCollisionShape& shape, const btTransform& t, Real spacing,
+                      std::vector<Vec3>& out) {
+  if (shape.isCompound()) {
+    const auto& c = static_cast<const btCompoundShape&>(shape);
+    for (int i = 0; i < c.getNumChildShapes(); ++i)
+      collect_features(*c.getChildShape(i), t * c.getChildTransform(i), spacing, out);
+    return;
+  }
+  if (!shape.isPolyhedral()) return;
+  const auto& p = static_cast<const btPolyhedralConvexShape&>(shape);
+  for (int i = 0; i < p.getNumVertices(); ++i) {
+    btVector3 v;
+    p.getVertex(i, v);
+    out.push_back(to_vec(t * v));
+  }
+  if (shape.getShapeType() != BOX_SHAPE_PROXYTYPE) return;
+  for (int i = 0; i < p.getNumEdges(); ++i) {
+    btVector3 a, b;
+    p.getEdge(i, a, b);
+    const Vec3 pa = to_vec(t * a), pb = to_vec(t * b);
+    const int pieces = static_cast<int>(std::ceil((pb - pa).norm() / spacing));
+    for (int k = 1; k < pieces; ++k) out.push_back(pa + (Real(k) / Real(pieces)) * (pb - pa));
+  }
+}
+
+}  // namespace
+
+int XpbdWorld::shadow_for(const btCollisionObject* obj, btScalar dt) {
+  for (std::size_t i = 0; i < shadows_.size(); ++i)
+    if (shadows_[i].obj == obj) return static_cast<int>(i);
+  Shadow sh;
+  sh.obj = obj;
+  sh.pose = obj->getWorldTransform();
+  sh.start = sh.pose;
+  const btRigidBody* rb = btRigidBody::upcast(obj);
+  xpbd::RigidBody& b = sh.initial;
+  if (rb && !rb->isStaticOrKinematicObject()) {
+    // Dynamic: at its start pose (pre_solve runs before Bullet integrates).
+    // Bullet's step will first damp its velocity (btRigidBody::applyDamping),
+    // then add its forces and torques over dt in the solver: the shadow
+    // starts from the damped velocity and gains the same accelerations in
+    // every substep.
+    sh.dynamic = const_cast<btRigidBody*>(rb);
+    const btScalar keep_v = btPow(btScalar(1) - rb->getLinearDamping(), dt);
+    const btScalar keep_w = btPow(btScalar(1) - rb->getAngularDamping(), dt);
+    sh.v = to_vec(rb->getLinearVelocity() * keep_v);
+    sh.w = to_vec(rb->getAngularVelocity() * keep_w);
+    // Plus the acceleration Bullet's own contacts and joints gave it in the
+    // previous step (predicted_, updateAction): the support of what rests on
+    // it, which XPBD would otherwise not know of.
+    for (const Predicted& p : predicted_)
+      if (p.body == rb) {
+        sh.contact_accel = p.accel;
+        sh.contact_ang_accel = p.ang_accel;
+      }
+    sh.accel = to_vec(rb->getTotalForce() * rb->getInvMass()) + sh.contact_accel;
+    sh.ang_accel = to_vec(rb->getTotalTorque() * rb->getInvInertiaTensorWorld()) + sh.contact_ang_accel;
+    b.inv_mass = rb->getInvMass();
+    b.inv_inertia = to_vec(rb->getInvInertiaDiagLocal());
+  } else if (rb) {
+    // Kinematic (or static, at rest): Bullet has already put it at the end
+    // of its motion for this stepSimulation and keeps it there through the
+    // internal steps; its start is one step back along its velocity.
+    sh.v = to_vec(rb->getLinearVelocity());
+    sh.w = to_vec(rb->getAngularVelocity());
+    btTransformUtil::integrateTransform(sh.pose, to_bt(-sh.v), to_bt(-sh.w), dt, sh.start);
+  }
+  sh.start_to_pose = sh.pose * sh.start.inverse();
+  b.x = to_vec(sh.start.getOrigin());
+  b.q = to_quat(sh.start.getRotation());
+  b.v = sh.v;
+  b.w = sh.w;
+  b.accel = sh.accel;
+  b.ang_accel = sh.ang_accel;
+  shadows_.push_back(sh);
+  ++stats_.shadows;
+  return static_cast<int>(shadows_.size() - 1);
+}
+
+Index XpbdWorld::body_index(System& s, const btCollisionObject* obj, btScalar dt) {
+  const int sh = shadow_for(obj, dt);
+  for (std::size_t i = 0; i < s.shadow_of_body.size(); ++i)
+    if (s.shadow_of_body[i] == sh) return static_cast<Index>(i);
+  s.shadow_of_body.push_back(sh);
+  s.state.bodies.push_back(shadows_[sh].initial);
+  return static_cast<Index>(s.state.bodies.size() - 1);
+}
+
+void XpbdWorld::find_triangle_contacts(System& s, btScalar dt, const Vec3& lo, const Vec3& hi) {
+  const xpbd::Model& m = *s.model;
+  xpbd::State& st = s.state;
+  const ContactSettings& cs = s.settings.contacts;
+  const auto& tris = m.collision_triangles;
+  bool bounds_ready = false;
+  for (const btCollisionObject* obj : candidates_) {
+    features_.clear();
+    collect_features(*obj->getCollisionShape(), btTransform::getIdentity(), cs.feature_spacing,
+                     features_);
+    if (features_.empty()) continue;
+    const int shi = shadow_for(obj, dt);
+    const Shadow& sh = shadows_[shi];
+    const btTransform start = sh.start;
+    const Vec3 vb = sh.v;
+    // Speed gained over the step from the body's forces (m/s, rad/s).
+    const Real ab = dt * sh.accel.norm();
+    const Real wb = sh.w.norm() + dt * sh.ang_accel.norm();
+    if (!bounds_ready) {
+      // Each triangle's bounds over the step, grown by the thickness and margin.
+      tri_lo_.resize(tris.size());
+      tri_hi_.resize(tris.size());
+      for (std::size_t t = 0; t < tris.size(); ++t) {
+        Vec3 a = Vec3::Constant(std::numeric_limits<Real>::max()), b = -a;
+        Real r = 0;
+        for (Index p : tris[t]) {
+          const Vec3 e = st.x[p] + dt * st.v[p];
+          a = a.cwiseMin(st.x[p]).cwiseMin(e);
+          b = b.cwiseMax(st.x[p]).cwiseMax(e);
+          r = std::max(r, m.radius[p]);
+        }
+        const Real grow = r + cs.thickness + cs.margin;
+        tri_lo_[t] = a.array() - grow;
+        tri_hi_[t] = b.array() + grow;
+      }
+      bounds_ready = true;
+    }
+    Index body = -1;
+    for (const Vec3& local : features_) {
+      // The feature at the start of the step and where it moves over the step.
+      const Vec3 q0 = to_vec(start * to_bt(local));
+      const Real travel = dt * (vb.norm() + ab + wb * local.norm());
+      if ((q0.array() + travel < lo.array()).any() || (q0.array() - travel > hi.array()).any())
+        continue;
+      for (std::size_t t = 0; t < tris.size(); ++t) {
+        if ((q0.array() + travel < tri_lo_[t].array()).any() ||
+            (q0.array() - travel > tri_hi_[t].array()).any())
+          continue;
+        const auto& tri = tris[t];
+        const Vec3 x1 = st.x[tri[0]], e1 = st.x[tri[1]] - x1, e2 = st.x[tri[2]] - x1;
+        const Vec3 nn = e1.cross(e2);
+        const Real a2 = nn.squaredNorm();
+        if (!(a2 > Real(0))) continue;
+        // Barycentric coordinates of the feature's projection: it must lie
+        // over the triangle (with a margin of one feature spacing relative to
+        // the triangle size, so a corner over a shared edge hits both sides).
+        const Vec3 d = q0 - x1;
+        const Real u = d.cross(e2).dot(nn) / a2;  // weight of x2
+        const Real v = e1.cross(d).dot(nn) / a2;  // weight of x3
+        const Real tol = Real(0.05);
+        if (u < -tol || v < -tol || u + v > Real(1) + tol) continue;
+        const Real dist = d.dot(nn) / std::sqrt(a2);
+        Real r = 0;
+        for (Index p : tri) r = std::max(r, m.radius[p]);
+        const Real thick = r + cs.thickness;
+        Real move = travel;
+        for (Index p : tri) move = std::max(move, dt * ((st.v[p] - vb).norm() + ab));
+        if (std::abs(dist) > thick + cs.margin + move) continue;
+        if (body < 0) body = body_index(s, obj, dt);
+        xpbd::BodyTriangleContact c;
+        c.body = body;
+        c.r = local;
+        c.tri = tri;
+        c.side = dist >= Real(0) ? Real(1) : Real(-1);
+        c.thickness = thick;
+        st.triangle_contacts.push_back(c);
+      }
+    }
+  }
+  stats_.triangle_contacts += static_cast<int>(st.triangle_contacts.size());
+}
+
+void XpbdWorld::step_system(System& s, btScalar dt) {
+  const xpbd::Model& m = *s.model;
+  xpbd::State& st = s.state;
+  const SystemSettings& set = s.settings;
+  const ContactSettings& cs = set.contacts;
+  const Index n = m.num_particles();
+
+  st.bodies.clear();
+  st.contacts.clear();
+  st.attachments.clear();
+  st.triangle_contacts.clear();
+  s.shadow_of_body.clear();
+  SystemTimes* const times = set.times;  // opt-in timing (nullptr: none)
+
+  // Attachments whose body is still in the world.
+  xpbd::timed(times, SystemTimes::shadows, !attachments_.empty(), [&] {
+    for (const Attachment& a : attachments_) {
+      if (a.system != s.id || !in_world(world_, a.body)) continue;
+      const Index b = body_index(s, a.body, dt);
+      st.attachments.push_back(xpbd::BodyAttachment{a.particle, b, to_vec(a.local), a.compliance});
+    }
+  });
+
+  // Contacts: candidates over the AABB of the particles swept over the step.
+  if (cs.enabled && n > 0) {
+    const auto t0 = std::chrono::steady_clock::now();
+    Vec3 lo = Vec3::Constant(std::numeric_limits<Real>::max());
+    Vec3 hi = -lo;
+    Real rmax = 0;
+    for (Index i = 0; i < n; ++i) {
+      const Vec3 e = st.x[i] + dt * st.v[i];
+      lo = lo.cwiseMin(st.x[i]).cwiseMin(e);
+      hi = hi.cwiseMax(st.x[i]).cwiseMax(e);
+      rmax = std::max(rmax, m.radius[i]);
+    }
+    const Real grow = cs.margin + cs.thickness + rmax;
+    lo.array() -= grow;
+    hi.array() += grow;
+    candidates(world_, lo, hi, candidates_, cs.filter_group, cs.filter_mask);
+    stats_.candidates += static_cast<int>(candidates_.size());
+
+    // What the contact loop needs of each candidate (copied: shadow_for()
+    // may grow shadows_), and its culling box: the AABB at the start pose
+    // grown by grow_b (see "Culling of (particle, body) pairs" above). The
+    // shadows are created in candidate order.
+    detail::ContactScratch& sc = s.contact;
+    const Real system_scale = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
+    sc.candidates.clear();
+    for (const btCollisionObject* obj : candidates_) {
+      const int shi = shadow_for(obj, dt);
+      const Shadow& sh = shadows_[shi];
+      detail::Candidate c;
+      c.obj = obj;
+      c.to_pose = sh.start_to_pose;
+      c.pose_inv = sh.pose.inverse();
+      c.vb = sh.v;
+      c.ab = dt * sh.accel.norm();
+      c.wb = sh.w.norm() + dt * sh.ang_accel.norm();
+      btVector3 amin, amax;
+      obj->getCollisionShape()->getAabb(sh.pose, amin, amax);
+      c.extent = (to_vec(amax) - to_vec(amin)).norm();
+      obj->getCollisionShape()->getAabb(sh.start, amin, amax);
+      c.box = {to_vec(amin), to_vec(amax)};
+      const Real coords =
+          std::max({c.box.lo.cwiseAbs().maxCoeff(), c.box.hi.cwiseAbs().maxCoeff(), system_scale});
+      const Real grow = dt * (c.vb.norm() + c.ab + c.wb * c.extent) +
+                        Real(4) * xpbd::kDegenerateRel * (Real(1) + coords + c.extent);
+      c.box.lo.array() -= grow;
+      c.box.hi.array() += grow;
+      sc.candidates.push_back(c);
+    }
+    if (cs.cull) {
+      sc.half.resize(std::size_t(n));
+      for (Index i = 0; i < n; ++i)
+        sc.half[std::size_t(i)] = m.radius[i] + cs.thickness + cs.margin + dt * st.v[i].norm();
+      detail::find_pairs(st.x, m.inv_mass, sc);
+    }
+
+    for (std::size_t k = 0; k < sc.candidates.size(); ++k) {
+      // Local copies: the loop below writes to st.contacts and shadows_.
+      const detail::Candidate& cand = sc.candidates[k];
+      const btCollisionObject* obj = cand.obj;
+      const btTransform to_pose = cand.to_pose;
+      const btTransform pose_inv = cand.pose_inv;
+      const Vec3 vb = cand.vb;
+      const Real ab = cand.ab, wb = cand.wb, extent = cand.extent;
+      const Real mu_s = cs.static_friction * obj->getFriction();
+      const Real mu_d = cs.dynamic_friction * obj->getFriction();
+      const Real e = cs.restitution * obj->getRestitution();
+      Index body = -1;
+      // A particle attached to this body does not collide with it: the
+      // attachment holds it at a point of the body, often on its surface,
+      // where a contact would push it off by the thickness and fight the
+      // attachment at every substep.
+      const bool has_attached = std::any_of(attachments_.begin(), attachments_.end(), [&](const Attachment& a) {
+        return a.system == s.id && a.body == obj;
+      });
+      auto attached_here = [&](Index i) {
+        return std::any_of(attachments_.begin(), attachments_.end(), [&](const Attachment& a) {
+          return a.system == s.id && a.body == obj && a.particle == i;
+        });
+      };
+      // The culled pairs of this candidate, or every particle.
+      const Index* const listed = sc.particles.data() + (cs.cull ? sc.pair_begin[k] : 0);
+      const Index count = cs.cull ? sc.pair_begin[k + 1] - sc.pair_begin[k] : n;
+      for (Index j = 0; j < count; ++j) {
+        const Index i = cs.cull ? listed[j] : j;
+        if (m.inv_mass[i] == Real(0)) continue;  // never in a culled list
+        if (has_attached && attached_here(i)) continue;
+        ++stats_.queries;
+        const Real thick = m.radius[i] + cs.thickness;
+        // The particle's position relative to the body at the start of the
+        // step, expressed at the pose Bullet's shape is at.
+        const Vec3 x = to_vec(to_pose * to_bt(st.x[i]));
+        const Real travel = dt * ((st.v[i] - vb).norm() + ab + wb * extent);
+        const Real reach = thick + cs.margin + travel;
+        ParticleContact c;
+        bool hit = false;
+        if (travel > cs.margin) {
+          // Fast relative motion: the first surface crossed on the way wins.
+          Real frac;
+          const Vec3 end = x + dt * (st.v[i] - vb);
+          hit = sweep_point(*obj, x, end, c, frac);
+        }
+        if (!hit) hit = query_point(*obj, x, reach, c);
+        if (!hit) continue;
+        if (body < 0) body = body_index(s, obj, dt);
+        xpbd::BodyContact bc;
+        bc.particle = i;
+        bc.body = body;
+        bc.r = to_vec(pose_inv * to_bt(c.point));
+        bc.n = to_vec(pose_inv.getBasis() * to_bt(c.normal));
+        bc.thickness = thick;
+        bc.static_friction = mu_s;
+        bc.dynamic_friction = mu_d;
+        bc.restitution = e;
+        bc.compliance = cs.compliance;
+        st.contacts.push_back(bc);
+      }
+    }
+    stats_.contacts += static_cast<int>(st.contacts.size());
+    if (!m.collision_triangles.empty()) find_triangle_contacts(s, dt, lo, hi);
+    const auto t1 = std::chrono::steady_clock::now();
+    stats_.contact_seconds += std::chrono::duration<double>(t1 - t0).count();
+    if (times) {
+      times->ns[SystemTimes::contacts] += std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count();
+      ++times->calls[SystemTimes::contacts];
+    }
+  }
+
+  xpbd::StepConfig cfg;
+  cfg.dt = dt;
+  cfg.substeps = set.substeps;
+  cfg.iterations = set.iterations;
+  cfg.method = set.method;
+  cfg.drag = set.drag;
+  cfg.alternate_sweeps = set.alternate_sweeps;
+  cfg.coloured = set.coloured;
+  cfg.gravity = to_vec(world_.getGravity());
+  cfg.times = times ? &times->step : nullptr;
+  // Bodies moved without any contact: the reference the changes are taken from.
+  xpbd::timed(times, SystemTimes::shadows, !st.bodies.empty(), [&] {
+    s.free_bodies = st.bodies;
+    const Real h = dt / Real(set.substeps);
+    for (int k = 0; k < set.substeps; ++k) {
+      xpbd::rigid::predict_bodies(s.free_bodies, h);
+      xpbd::rigid::update_body_velocities(s.free_bodies, h);
+    }
+  });
+
+  xpbd::step(m, st, cfg);
+
+  // This system's share of the body velocity and position changes.
+  xpbd::timed(times, SystemTimes::coupling, !st.bodies.empty(), [&] {
+    for (std::size_t i = 0; i < st.bodies.size(); ++i) {
+      Shadow& sh = shadows_[s.shadow_of_body[i]];
+      if (!sh.dynamic) continue;
+      const xpbd::RigidBody& b = st.bodies[i];
+      const xpbd::RigidBody& f = s.free_bodies[i];
+      if (!sh.coupled) {
+        sh.coupled = true;
+        sh.free = f;
+        sh.substeps = set.substeps;
+      }
+      sh.dv += b.v - f.v;
+      sh.dw += b.w - f.w;
+      sh.dx += b.x - f.x;
+      sh.dq = (b.q * f.q.conjugate()) * sh.dq;
+    }
+  });
+}
+
+}  // namespace xpbd_bullet

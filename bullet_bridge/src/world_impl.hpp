@@ -1,0 +1,112 @@
+#pragma once
+// XpbdWorld's private state, shared by world.cpp (lifecycle, hook, hand-over
+// to Bullet) and world_contacts.cpp (shadow bodies, contact search, the
+// XPBD step of one system). Internal to the bridge.
+#include <btBulletDynamicsCommon.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "pair_culling.hpp"
+#include "xpbd/rigid.hpp"
+#include "xpbd_bullet/world.hpp"
+
+namespace xpbd_bullet {
+
+using xpbd::Index;
+using xpbd::Quat;
+using xpbd::Real;
+using xpbd::Vec3;
+
+inline Vec3 to_vec(const btVector3& v) { return Vec3(v.x(), v.y(), v.z()); }
+inline btVector3 to_bt(const Vec3& v) { return btVector3(v.x(), v.y(), v.z()); }
+inline Quat to_quat(const btQuaternion& q) { return Quat(q.w(), q.x(), q.y(), q.z()); }
+inline btQuaternion to_bt(const Quat& q) { return btQuaternion(q.x(), q.y(), q.z(), q.w()); }
+
+// True if o is in w's object array (bodies can be removed between steps).
+inline bool in_world(const btCollisionWorld& w, const btCollisionObject* o) {
+  const int i = o->getWorldArrayIndex();
+  const auto& arr = w.getCollisionObjectArray();
+  return i >= 0 && i < arr.size() && arr[i] == o;
+}
+
+// One rigid body seen during the current internal step (XpbdWorld::pre_solve,
+// before Bullet's collision detection and solver).
+struct XpbdWorld::Shadow {
+  const btCollisionObject* obj = nullptr;
+  btRigidBody* dynamic = nullptr;  // set if the body is dynamic (receives the hand-over)
+  // Where Bullet's collision shape is while XPBD runs: a dynamic or static
+  // body's pose at the start of the step; a kinematic body's target, the pose
+  // at the end of the step (Bullet moves kinematic bodies before its
+  // internal steps).
+  btTransform pose;
+  btTransform start;         // the body's pose at the start of the step
+  btTransform start_to_pose; // world points at `start` -> the same body points at `pose`
+  // Velocities at the start of the step (a dynamic body's after Bullet's
+  // damping of this step), and its accelerations over the step: its forces
+  // over its mass plus contact_accel (and the angular ones likewise).
+  Vec3 v = Vec3::Zero(), w = Vec3::Zero();
+  Vec3 accel = Vec3::Zero(), ang_accel = Vec3::Zero();
+  // The part of accel predicted for Bullet's own contacts and joints: what
+  // they did to the body in the previous step, per unit time.
+  Vec3 contact_accel = Vec3::Zero(), contact_ang_accel = Vec3::Zero();
+  xpbd::RigidBody initial;  // the xpbd shadow at the start of the step
+  // Filled by the systems that step it (dynamic bodies only):
+  bool coupled = false;     // some system has it in State::bodies
+  xpbd::RigidBody free;     // the first such system's contact-free end state
+  int substeps = 1;         // that system's substeps per step
+  Vec3 dv = Vec3::Zero(), dw = Vec3::Zero(), dx = Vec3::Zero();  // summed changes
+  Quat dq = Quat::Identity();
+};
+
+struct XpbdWorld::System {
+  int id = 0;
+  std::shared_ptr<const xpbd::Model> model;
+  xpbd::State state;
+  SystemSettings settings;
+  std::string error;                // set when a step failed; the system is no longer stepped
+  std::vector<int> shadow_of_body;  // per State::bodies entry: index into shadows_
+  std::vector<xpbd::RigidBody> free_bodies;  // scratch: bodies moved without contacts
+  detail::ContactScratch contact;            // scratch of the contact search
+};
+
+struct XpbdWorld::Attachment {
+  int id = 0;
+  int system = 0;
+  Index particle = 0;
+  btRigidBody* body = nullptr;
+  btVector3 local;
+  Real compliance = 0;
+};
+
+// What the hand-over expects of Bullet's step for one coupled body, and
+// what updateAction adds after Bullet's integration.
+//
+// The shadow ends at (x_end, q_end) with velocities (v_end, w_end). If
+// Bullet's contacts and joints change the body's velocity exactly as
+// predicted (contact_accel dt), Bullet ends with v_end, and its integration
+// reaches x0 + dt v_end: the residual is then the XPBD path's excess over
+// that, x_end - x0 - dt v_end (zero at rest), and the same for the rotation.
+// Where Bullet's contacts do something else, by dv_b = v_bullet - v_end, that
+// change is taken as acting uniformly over the step, as a force inside the
+// substeps would: it moves the body by dv_b dt (n+1)/(2n) rather than the
+// dv_b dt of Bullet's integration, so the residual has -dv_b dt (n-1)/(2n)
+// more (the same for the rotation vector).
+struct XpbdWorld::Residual {
+  btRigidBody* body = nullptr;
+  btVector3 dx;             // m, the XPBD path's excess (translation)
+  btQuaternion dq;          // its rotation, applied on the left
+  btVector3 v_end, w_end;   // m/s, rad/s, the shadow's end velocities
+  btVector3 v_pre, w_pre;   // velocities Bullet reaches before its contacts: keep u + kick
+  btScalar spread = 0;      // s, dt (n-1)/(2n)
+};
+
+// Bullet's contact and joint acceleration on a coupled body in the last
+// step, (v_bullet - v_pre)/dt: fed to the body's shadow in the next step.
+struct XpbdWorld::Predicted {
+  const btRigidBody* body = nullptr;
+  Vec3 accel = Vec3::Zero(), ang_accel = Vec3::Zero();
+};
+
+}  // namespace xpbd_bullet
