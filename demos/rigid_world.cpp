@@ -145,7 +145,7 @@ RigidWorld::RigidWorld(const std::vector<RigidSpec>& bodies, const Vec3& gravity
                                                         solver_.get(), config_.get(), nullptr);
     soft_ = w.get();
     world_ = std::move(w);
-    // btSoftBody reads its own copy of gravity (DESIGN.md section 3).
+    // btSoftBody reads its own copy of gravity (docs/design.md section 3).
     btSoftBodyWorldInfo& info = soft_->getWorldInfo();
     info.m_gravity = bt(gravity);
     info.air_density = 0;  // no medium (aerodynamics are off anyway)

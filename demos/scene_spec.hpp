@@ -48,7 +48,7 @@ struct SolverSpec {
   // btSoftBody (--solver bullet) at the matched budget: `substeps` internal
   // steps of dt/substeps per frame, each with `iterations` position
   // iterations (piterations), so both count substeps x iterations x elements
-  // projections per frame (DESIGN.md section 5). kLST is btSoftBody's link
+  // projections per frame (docs/design.md section 5). kLST is btSoftBody's link
   // stiffness in (0, 1] (dimensionless).
   xpbd::Real bullet_kLST = 1;
 };

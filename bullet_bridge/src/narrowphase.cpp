@@ -1,6 +1,6 @@
 // Particle-vs-rigid contact queries (see xpbd_bullet/narrowphase.hpp).
 //
-// Who answers which query, and why (DESIGN.md section 4, docs/collision-queries.md):
+// Who answers which query, and why (docs/design.md section 4, docs/collision-queries.md):
 //
 // | shape                                   | distance (query_point)                   | sweep (sweep_point)                     |
 // |-----------------------------------------|------------------------------------------|-----------------------------------------|

@@ -108,7 +108,7 @@ std::unique_ptr<btSoftBody> build_softbody(btSoftBodyWorldInfo& info, const xpbd
   const auto& dist = model.get<xpbd::Distance>();
   for (const auto& d : dist) b.appendLink(d.p[0], d.p[1], nullptr, false);
 
-  // Solver configuration (DESIGN.md section 5).
+  // Solver configuration (docs/design.md section 5).
   btSoftBody::Config& c = b.m_cfg;
   c.piterations = cfg.piterations;
   c.viterations = 0;  // no velocity solver

@@ -1,4 +1,4 @@
-// Contact generation benchmark of the Bullet bridge (DESIGN.md sections 4 and 7).
+// Contact generation benchmark of the Bullet bridge (docs/design.md sections 4 and 7).
 //
 // Scene: a 64 x 64 cloth (2 m x 2 m, 1 kg, no pins; xpbd::add_cloth_grid)
 // draped over 100 static rigid bodies on a 10 x 10 grid 0.2 m apart:
@@ -7,7 +7,7 @@
 // The cloth is dropped from y = 0.35 m and warmed up for 45 steps (0.75 s at
 // 60 Hz), so that it lies on the bodies; that State, without the contacts of
 // the last warm-up step, is the snapshot, and every timed call starts from
-// it (DESIGN.md principle 7). The summary prints the fastest particle's
+// it (docs/design.md principle 7). The summary prints the fastest particle's
 // speed in it, as a check that the cloth lies still. The bodies are static,
 // so nothing else in the Bullet world changes between calls.
 //

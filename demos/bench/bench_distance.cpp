@@ -1,4 +1,4 @@
-// Distance-constraint projection benchmark (DESIGN.md section 7).
+// Distance-constraint projection benchmark (docs/design.md section 7).
 //
 // Scene: a 64 x 64 cloth (1 m x 1 m, 1 kg, two corners pinned) built with
 // xpbd::add_cloth_grid, the builder demos and tests use. Its distance set is
@@ -27,7 +27,7 @@
 // the ratio of the array-order benchmark (kernel_sweep or step) to them, all
 // measured in this run, and the number of colours.
 //
-// Snapshot / restore (DESIGN.md principle 7): the cloth is warmed up by a few
+// Snapshot / restore (docs/design.md principle 7): the cloth is warmed up by a few
 // steps of free swinging; that State is the snapshot. Each measured batch
 // first restores the snapshot (untimed), so every timed sweep or step starts
 // from the same configuration and does the same work.

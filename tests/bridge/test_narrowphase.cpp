@@ -1,5 +1,5 @@
 // Known-answer tests of query_point (particle centre vs rigid shape signed
-// distance), DESIGN.md section 4. Every expected value is a closed form written
+// distance), docs/design.md section 4. Every expected value is a closed form written
 // in the test or an independent reference formula from test_narrowphase_util.hpp.
 //
 // Tolerances: the closed forms do O(10) floating-point operations on

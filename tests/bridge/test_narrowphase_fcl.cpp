@@ -1,4 +1,4 @@
-// Regression tests for the FCL 0.7 behaviour the bridge avoids (DESIGN.md
+// Regression tests for the FCL 0.7 behaviour the bridge avoids (docs/design.md
 // section 4, docs/collision-queries.md). Each test calls FCL (Debian's
 // libfcl 0.7.0, double) on a configuration with a known closed-form answer,
 // asserts that FCL deviates from it as observed, and that the bridge's query

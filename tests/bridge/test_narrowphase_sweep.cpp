@@ -1,5 +1,5 @@
 // Known-answer tests of sweep_point (tunnelling prevention) and candidates()
-// (broadphase), DESIGN.md section 4.
+// (broadphase), docs/design.md section 4.
 //
 // Sweep fractions from closed forms are exact up to round-off; the root finder
 // used for capsules, cylinders and hulls stops at ~64 eps * |x| m, so fractions

@@ -55,7 +55,7 @@ class BulletWorld {
                                                           solver_.get(), config_.get());
       soft_ = w.get();
       world_ = std::move(w);
-      // btSoftBody reads its own copy of gravity (DESIGN.md section 3).
+      // btSoftBody reads its own copy of gravity (docs/design.md section 3).
       soft_info_ = &soft_->getWorldInfo();
       soft_info_->m_gravity = bt(gravity);
       soft_info_->m_sparsesdf.Initialize();
@@ -79,7 +79,7 @@ class BulletWorld {
 
   // Adds a rigid body of `mass` kg (0 = static) with centre of mass at `pose`,
   // taking ownership of `shape`. Sleeping is turned off, so that Bullet
-  // integrates every dynamic body every step (DESIGN.md section 5).
+  // integrates every dynamic body every step (docs/design.md section 5).
   btRigidBody* add_body(btCollisionShape* shape, Real mass, const btTransform& pose,
                         const Vec3& velocity = Vec3::Zero(), Real friction = 1,
                         Real restitution = 0) {

@@ -31,7 +31,7 @@ constexpr Real kSoftMargin = Real(0.006);   // m, the btSoftBody's collision mar
 // Rest height of both cloths (m): btSoftBody's node-rigid contact distance
 // for a movable node is the sum of both margins (Bullet keeps a box's margin
 // inside its dimensions, so the floor's surface itself stays at y = 0); the
-// XPBD cloth gets the same value as its thickness (DESIGN.md section 5).
+// XPBD cloth gets the same value as its thickness (docs/design.md section 5).
 constexpr Real kRestHeight = kSoftMargin + kFloorMargin;
 
 struct MixedRun {
@@ -56,7 +56,7 @@ MixedRun run_mixed(bool with_xpbd, int steps) {
   floor_shape->setMargin(kFloorMargin);
   bw.add_body(floor_shape, 0, BulletWorld::at(Vec3(0, Real(-0.5), 0)));
   // The sparse SDF btSoftBody queries: voxels no larger than the thinnest
-  // feature that matters (DESIGN.md section 5), here 5 cm.
+  // feature that matters (docs/design.md section 5), here 5 cm.
   bw.soft_info().m_sparsesdf.setDefaultVoxelsz(Real(0.05));
   bw.soft_info().m_sparsesdf.Reset();
 
@@ -69,7 +69,7 @@ MixedRun run_mixed(bool with_xpbd, int steps) {
   sb->m_cfg.piterations = 10;
   sb->m_cfg.kDF = Real(0.5);  // friction, as the XPBD cloth's 0.5 x the floor's 1
   sb->m_cfg.kDP = 0;
-  sb->m_cfg.kCHR = sb->m_cfg.kKHR = 1;  // full contact hardness (DESIGN.md section 5)
+  sb->m_cfg.kCHR = sb->m_cfg.kKHR = 1;  // full contact hardness (docs/design.md section 5)
   sb->setActivationState(DISABLE_DEACTIVATION);
   bw.add_soft_body(sb);
 

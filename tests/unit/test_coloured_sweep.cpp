@@ -12,7 +12,7 @@
 //   - the coloured kernel computes what the array-order pair-distance kernel
 //     computes when run over the elements in schedule order (same lambda per
 //     element), for every variant (XPBD, damped, PBD) and reversed;
-//   - physics with coloured on: the hanging chain of DESIGN.md section 6
+//   - physics with coloured on: the hanging chain of docs/design.md section 6
 //     settles to the closed-form stretch, and a Fig. 5-like hanging cloth
 //     follows the array-order cloth.
 #include <gtest/gtest.h>
@@ -396,7 +396,7 @@ TEST(ColouredSweep, RejectsAModelWithoutASchedule) {
 // ---------------------------------------------------------------------------
 // Physics with the coloured sweep.
 
-// DESIGN.md section 6: 20 particles of 1 kg (particle 0 pinned, kinematic),
+// docs/design.md section 6: 20 particles of 1 kg (particle 0 pinned, kinematic),
 // l = 0.01 m, g = 10 m/s^2, compliance 1e-6 m/N. Link k holds N-1-k
 // particles, so at equilibrium it carries (N-1-k) m g and is stretched by
 // alpha (N-1-k) m g (1.9e-4 m for link 0, 1e-5 m for the last).

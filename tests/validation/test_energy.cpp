@@ -1,4 +1,4 @@
-// Energy of a compliant spring (DESIGN.md section 6, notes): XPBD is backward
+// Energy of a compliant spring (docs/design.md section 6, notes): XPBD is backward
 // Euler, which never adds energy and loses some through numerical damping.
 //
 // For a potential U that is convex along the step (here: a spring that stays

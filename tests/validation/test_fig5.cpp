@@ -1,4 +1,4 @@
-// The seed report's Fig. 5 (DESIGN.md section 6, last row): a cloth pinned
+// The seed report's Fig. 5 (docs/design.md section 6, last row): a cloth pinned
 // at two corners falls and hangs; PBD's shape depends on the iteration
 // count, XPBD's does not. Same setup as docs/fig5.md (demos/fig5_scene.hpp,
 // shared with the xpbd-fig5 program): 10 x 10 particles, 1 substep per

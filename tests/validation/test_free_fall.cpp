@@ -1,4 +1,4 @@
-// Free fall without constraints (DESIGN.md section 6, row 1).
+// Free fall without constraints (docs/design.md section 6, row 1).
 //
 // Reference: the discrete solution of symplectic Euler with substep h. With k
 // counting substeps (not steps), one substep is
@@ -7,7 +7,7 @@
 //   x_n = x0 + h sum_{k=1..n} (v0 + k h g) = x0 + v0 n h + g h^2 n(n+1)/2.
 // With S substeps per step, after `steps` steps n = steps * S and t = n h.
 // For g = (0, -9.81, 0) the y component is y0 + v0 t - 9.81 h^2 n(n+1)/2,
-// the formula of DESIGN.md. (The continuous solution differs by g h t / 2,
+// the formula of docs/design.md. (The continuous solution differs by g h t / 2,
 // about 1e-2 m here, explicit Euler by g h t: the test separates all three
 // by eight orders of magnitude.)
 #include <gtest/gtest.h>

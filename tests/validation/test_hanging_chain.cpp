@@ -1,11 +1,11 @@
-// Vertical hanging chain (DESIGN.md section 6, row 4): N = 20 particles of
+// Vertical hanging chain (docs/design.md section 6, row 4): N = 20 particles of
 // 1 kg, spacing l = 0.01 m, g = 10 m/s^2, particle 0 pinned and kinematic.
 //
 // Indexing. add_rope gives particle 0 (the pinned top) mass 0, so N - 1 = 19
 // particles of mass m hang, and link k joins particles k and k+1
 // (k = 0..N-2). Link k holds up particles k+1..N-1, i.e. N-1-k of them, so
 // its tension is (N-1-k) m g: 190 N in link 0 (the support), 10 N in the last
-// link. (DESIGN.md's "(N-k) m g" counts links from 1.)
+// link (the same 0-based form as docs/design.md section 6).
 //
 // Force estimate. At rest, each substep's prediction moves every hanging
 // particle h^2 g down, and the projections must move it back. Summing the

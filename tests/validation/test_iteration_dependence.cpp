@@ -1,4 +1,4 @@
-// PBD vs XPBD: effective stiffness against the iteration count (DESIGN.md
+// PBD vs XPBD: effective stiffness against the iteration count (docs/design.md
 // section 6, last row; the seed report's Fig. 5 on a spring and a chain).
 //
 // Measure: the static stretch of a spring (or chain) hanging under gravity

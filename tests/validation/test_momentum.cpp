@@ -1,4 +1,4 @@
-// Linear momentum of a free system with internal constraints only (DESIGN.md
+// Linear momentum of a free system with internal constraints only (docs/design.md
 // section 6, row 5).
 //
 // Every internal constraint here (Distance, Collision) depends only on

@@ -1,4 +1,4 @@
-// Pendulum (DESIGN.md section 6, row 3): L = 1 m, released from rest at
+// Pendulum (docs/design.md section 6, row 3): L = 1 m, released from rest at
 // 10 degrees, kinematic pin at the top + a stiff distance constraint,
 // g = 9.81 m/s^2, 100 substeps per 1/60 s step.
 //

@@ -1,4 +1,4 @@
-// Compliant spring, alpha = 1/k (DESIGN.md section 6, row 2).
+// Compliant spring, alpha = 1/k (docs/design.md section 6, row 2).
 //
 // Scene (test::Spring1D): m = 1 kg, rest 1 m, x0 = 1.5 m (u0 = x0 - rest =
 // 0.5 m), alpha = 1e-3 m/N, the other end kinematic, zero gravity. The motion

@@ -1,5 +1,5 @@
 #pragma once
-// Contact queries of particles against Bullet rigid shapes (DESIGN.md section 4).
+// Contact queries of particles against Bullet rigid shapes (docs/design.md section 4).
 //
 // A particle is treated as a point (its centre); callers add the particle
 // radius to the speculative margin and subtract it from the distance. Every

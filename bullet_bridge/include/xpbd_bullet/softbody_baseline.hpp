@@ -1,6 +1,6 @@
 #pragma once
 // The btSoftBody baseline: one xpbd::SceneDesc built as a Bullet btSoftBody in
-// a btSoftRigidDynamicsWorld, under the fairness rules of DESIGN.md section 5,
+// a btSoftRigidDynamicsWorld, under the fairness rules of docs/design.md section 5,
 // so that XPBD and btSoftBody run the same scene and are measured the same way.
 //
 // What is matched (see docs/demo.md):

@@ -1,6 +1,6 @@
 #pragma once
 // Builds one xpbd::SceneDesc as a Bullet btSoftBody under the fairness rules
-// of DESIGN.md section 5. Shared by the btSoftBody baseline
+// of docs/design.md section 5. Shared by the btSoftBody baseline
 // (softbody_baseline.hpp, a soft body alone in its own world) and the demo
 // scene runner (demos/scene_runner.hpp, a soft body among rigid bodies).
 //
@@ -37,7 +37,7 @@
 //     without a rigid anchor) and pins whose target is not the particle's
 //     initial position.
 // Distance compliances and PBD stiffnesses are not used: every link gets the
-// one kLST, which is calibrated by measured strain (DESIGN.md section 5).
+// one kLST, which is calibrated by measured strain (docs/design.md section 5).
 // collision_triangles and particle radii are not part of the soft body
 // (btSoftBody collides its nodes, with one margin per body).
 #include <memory>

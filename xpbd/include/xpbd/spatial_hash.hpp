@@ -1,7 +1,7 @@
 #pragma once
 // Particle-particle collision between bodies and within one body
 // (self-collision), found through a uniform-grid spatial hash
-// (DESIGN.md section 4, last row).
+// (docs/design.md section 4, last row).
 //
 // Design
 // ------
