@@ -6,45 +6,12 @@
 
 #include "xpbd/constraints_contact.hpp"
 #include "xpbd/error.hpp"
+#include "contact_block.hpp"
+#include "rigid_internal.hpp"
 
 namespace xpbd::rigid {
-namespace {
 
-// Moves body b by the positional impulse p (kg*m, world) applied at world
-// lever arm rw: dx = p/m, dtheta = I^-1 (rw x p) (Mueller et al. 2020, eq. 7-9).
-void apply_position_impulse(RigidBody& b, const Vec3& rw, const Vec3& p) {
-  if (b.inv_mass == Real(0)) return;
-  b.x += b.inv_mass * p;
-  const Vec3 dth = apply_inv_inertia(b, rw.cross(p));
-  const Quat dq(Real(0), dth.x(), dth.y(), dth.z());
-  b.q.coeffs() += Real(0.5) * (dq * b.q).coeffs();
-  b.q.normalize();
-}
-
-// The same for a velocity impulse j (N*s).
-void apply_velocity_impulse(RigidBody& b, const Vec3& rw, const Vec3& j) {
-  if (b.inv_mass == Real(0)) return;
-  b.v += b.inv_mass * j;
-  b.w += apply_inv_inertia(b, rw.cross(j));
-}
-
-// A body index < 0 stands for the static world: this body never moves.
-RigidBody& body_or_world(State& s, Index b) {
-  static thread_local RigidBody world;  // inv_mass 0, at the origin, at rest
-  return b < 0 ? world : s.bodies[b];
-}
-
-// World point, world normal and lever arm of a contact at the body's current pose.
-struct Frame {
-  Vec3 p, n, rw;
-};
-Frame contact_frame(const RigidBody& b, const BodyContact& c, bool world) {
-  if (world) return {c.r, c.n, Vec3::Zero()};
-  const Vec3 rw = b.q * c.r;
-  return {b.x + rw, b.q * c.n, rw};
-}
-
-}  // namespace
+using namespace detail;
 
 void begin_step(const Model& m, State& s) {
   const Index np = m.num_particles();
@@ -75,6 +42,20 @@ void begin_step(const Model& m, State& s) {
   for (std::size_t k = 0; k < s.triangle_contacts.size(); ++k)
     for (Index p : s.triangle_contacts[k].tri) check("triangle_contacts", k, p, s.triangle_contacts[k].body);
   s.contact_lambda.resize(s.contacts.size());
+  // Chains of the contacts of each particle (contact_last is all -1 between
+  // steps: only the entries set here are reset).
+  const std::size_t nc = s.contacts.size();
+  s.contact_head.resize(nc);
+  s.contact_next.resize(nc);
+  s.contact_last.resize(static_cast<std::size_t>(np), -1);
+  for (std::size_t k = 0; k < nc; ++k) {
+    Index& last = s.contact_last[static_cast<std::size_t>(s.contacts[k].particle)];
+    s.contact_next[k] = -1;
+    s.contact_head[k] = last < 0 ? Index(k) : s.contact_head[static_cast<std::size_t>(last)];
+    if (last >= 0) s.contact_next[static_cast<std::size_t>(last)] = Index(k);
+    last = Index(k);
+  }
+  for (const BodyContact& c : s.contacts) s.contact_last[static_cast<std::size_t>(c.particle)] = -1;
   s.triangle_contact_lambda.resize(s.triangle_contacts.size());
   s.attachment_lambda.resize(s.attachments.size());
 }
@@ -130,50 +111,77 @@ void solve_attachments(const Model& m, State& s, Real h) {
   }
 }
 
+namespace {
+
+// Normal part of contact k alone: C = n.(x_p - p_b) - thickness >= 0, the
+// accumulated lambda clamped at >= 0 so the contact only pushes.
+void solve_contact_normal(const Model& m, State& s, std::size_t k, Real inv_h2) {
+  const BodyContact& c = s.contacts[k];
+  ContactLambda& l = s.contact_lambda[k];
+  RigidBody& b = body_or_world(s, c.body);
+  const Index p = c.particle;
+  const Real wp = m.inv_mass[p];
+  const Frame f = contact_frame(b, c, c.body < 0);
+  const Real C = f.n.dot(s.x[p] - f.p) - c.thickness;
+  if (C >= Real(0) && l.normal == Real(0)) return;
+  const Real wb = inv_mass_along(b, f.rw, f.n);
+  const Real at = c.compliance * inv_h2;
+  const Real den = wp + wb + at;
+  if (!(den > Real(0))) return;
+  const Real ln = std::max(l.normal + (-C - at * l.normal) / den, Real(0));
+  const Real dl = ln - l.normal;
+  l.normal = ln;
+  s.x[p] += (wp * dl) * f.n;
+  apply_position_impulse(b, f.rw, -dl * f.n);
+}
+
+// Static friction of contact k (position level, Mueller et al. 2020 sec.
+// 3.5): undo the tangential motion of the particle relative to the body
+// point over this substep while the tangential multiplier stays inside the
+// cone |lambda_t| <= mu_s lambda_n.
+void solve_contact_friction(const Model& m, State& s, std::size_t k) {
+  const BodyContact& c = s.contacts[k];
+  ContactLambda& l = s.contact_lambda[k];
+  if (c.static_friction <= Real(0) || l.normal <= Real(0)) return;
+  RigidBody& b = body_or_world(s, c.body);
+  const bool world = c.body < 0;
+  const Index p = c.particle;
+  const Real wp = m.inv_mass[p];
+  const Frame f = contact_frame(b, c, world);
+  const Vec3 pb_prev = world ? f.p : Vec3(b.x_prev + b.q_prev * c.r);
+  const Vec3 rel = (s.x[p] - s.x_prev[p]) - (f.p - pb_prev);
+  const Vec3 dt = rel - f.n.dot(rel) * f.n;
+  const Real len = dt.norm();
+  if (!(len > kDegenerateRel * c.thickness) || len == Real(0)) return;
+  const Vec3 t = dt / len;
+  const Real wt = wp + inv_mass_along(b, f.rw, t);
+  if (!(wt > Real(0))) return;
+  const Real dlt = -len / wt;
+  if (std::abs(l.tangent + dlt) > c.static_friction * l.normal) return;
+  l.tangent += dlt;
+  s.x[p] += (wp * dlt) * t;
+  apply_position_impulse(b, f.rw, -dlt * t);
+}
+
+}  // namespace
+
 void solve_contacts(const Model& m, State& s, Real h) {
   const Real inv_h2 = Real(1) / (h * h);
   for (std::size_t k = 0; k < s.contacts.size(); ++k) {
-    const BodyContact& c = s.contacts[k];
-    ContactLambda& l = s.contact_lambda[k];
-    RigidBody& b = body_or_world(s, c.body);
-    const bool world = c.body < 0;
-    const Index p = c.particle;
-    const Real wp = m.inv_mass[p];
-    Frame f = contact_frame(b, c, world);
-
-    // Normal: C = n.(x_p - p_b) - thickness >= 0; the accumulated lambda is
-    // clamped at >= 0 so the contact only pushes.
-    const Real C = f.n.dot(s.x[p] - f.p) - c.thickness;
-    if (C >= Real(0) && l.normal == Real(0)) continue;
-    const Real wb = inv_mass_along(b, f.rw, f.n);
-    const Real at = c.compliance * inv_h2;
-    const Real den = wp + wb + at;
-    if (!(den > Real(0))) continue;
-    const Real ln = std::max(l.normal + (-C - at * l.normal) / den, Real(0));
-    const Real dl = ln - l.normal;
-    l.normal = ln;
-    s.x[p] += (wp * dl) * f.n;
-    apply_position_impulse(b, f.rw, -dl * f.n);
-
-    // Static friction (position level, Mueller et al. 2020 sec. 3.5): undo
-    // the tangential motion of the particle relative to the body point over
-    // this substep while the tangential multiplier stays inside the cone
-    // |lambda_t| <= mu_s lambda_n.
-    if (c.static_friction <= Real(0) || l.normal <= Real(0)) continue;
-    if (!world) f = contact_frame(b, c, false);
-    const Vec3 pb_prev = world ? f.p : Vec3(b.x_prev + b.q_prev * c.r);
-    const Vec3 rel = (s.x[p] - s.x_prev[p]) - (f.p - pb_prev);
-    const Vec3 dt = rel - f.n.dot(rel) * f.n;
-    const Real len = dt.norm();
-    if (!(len > kDegenerateRel * c.thickness) || len == Real(0)) continue;
-    const Vec3 t = dt / len;
-    const Real wt = wp + inv_mass_along(b, f.rw, t);
-    if (!(wt > Real(0))) continue;
-    const Real dlt = -len / wt;
-    if (std::abs(l.tangent + dlt) > c.static_friction * l.normal) continue;
-    l.tangent += dlt;
-    s.x[p] += (wp * dlt) * t;
-    apply_position_impulse(b, f.rw, -dlt * t);
+    const auto head = static_cast<std::size_t>(s.contact_head[k]);
+    if (head != k) continue;  // solved with the first contact of its particle
+    if (s.contact_next[k] < 0) {
+      solve_contact_normal(m, s, k, inv_h2);
+      solve_contact_friction(m, s, k);
+      continue;
+    }
+    // Two or more contacts on one particle: their normal parts jointly
+    // (contact_block.cpp), then each one's friction.
+    if (!solve_contact_group(m, s, k, inv_h2))
+      for (Index j = Index(k); j >= 0; j = s.contact_next[static_cast<std::size_t>(j)])
+        solve_contact_normal(m, s, static_cast<std::size_t>(j), inv_h2);
+    for (Index j = Index(k); j >= 0; j = s.contact_next[static_cast<std::size_t>(j)])
+      solve_contact_friction(m, s, static_cast<std::size_t>(j));
   }
 }
 

@@ -47,6 +47,12 @@ struct State {
   std::vector<RigidBody> bodies;            // shadow states, read back after the step
   std::vector<BodyContact> contacts;        // found once per step
   std::vector<ContactLambda> contact_lambda;  // parallel to contacts (sized by step())
+  // Contacts of one particle, as a chain through `contacts` (sized by
+  // step(), internal): contact_head[k] is the first contact of k's particle,
+  // contact_next[k] the next one or -1. A particle with two or more contacts
+  // has them solved jointly (rigid_solve.hpp).
+  std::vector<Index> contact_head, contact_next;
+  std::vector<Index> contact_last;  // per particle, -1 between steps (scratch)
   std::vector<BodyTriangleContact> triangle_contacts;  // rigid features vs soft triangles
   std::vector<Real> triangle_contact_lambda;  // kg*m, parallel (sized by step())
   std::vector<BodyAttachment> attachments;

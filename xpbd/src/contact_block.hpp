@@ -1,0 +1,21 @@
+#pragma once
+// The joint solve of one particle's body contacts (internal to xpbd).
+#include <cstddef>
+
+#include "xpbd/model.hpp"
+#include "xpbd/state.hpp"
+
+namespace xpbd::rigid {
+
+// Contacts of one particle: at most this many are solved jointly.
+inline constexpr int kMaxJointContacts = 4;
+
+// Solves the normal parts of the contacts of one particle jointly: the chain
+// starting at contact `head` (State::contact_head/contact_next), as one small
+// projected linear complementarity problem, exactly (every active set is
+// tried). Returns false, changing nothing, if the chain is longer than
+// kMaxJointContacts or no active set solves it (degenerate input); the
+// caller then solves the contacts one by one.
+bool solve_contact_group(const Model& m, State& s, std::size_t head, Real inv_h2);
+
+}  // namespace xpbd::rigid

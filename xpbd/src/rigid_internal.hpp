@@ -1,0 +1,44 @@
+#pragma once
+// Helpers shared by the rigid-body stages (rigid_solve.cpp) and the joint
+// contact solve (contact_block.cpp). Internal to xpbd.
+#include "xpbd/rigid.hpp"
+#include "xpbd/state.hpp"
+
+namespace xpbd::rigid::detail {
+
+// Moves body b by the positional impulse p (kg*m, world) applied at world
+// lever arm rw: dx = p/m, dtheta = I^-1 (rw x p) (Mueller et al. 2020, eq. 7-9).
+inline void apply_position_impulse(RigidBody& b, const Vec3& rw, const Vec3& p) {
+  if (b.inv_mass == Real(0)) return;
+  b.x += b.inv_mass * p;
+  const Vec3 dth = apply_inv_inertia(b, rw.cross(p));
+  const Quat dq(Real(0), dth.x(), dth.y(), dth.z());
+  b.q.coeffs() += Real(0.5) * (dq * b.q).coeffs();
+  b.q.normalize();
+}
+
+// The same for a velocity impulse j (N*s).
+inline void apply_velocity_impulse(RigidBody& b, const Vec3& rw, const Vec3& j) {
+  if (b.inv_mass == Real(0)) return;
+  b.v += b.inv_mass * j;
+  b.w += apply_inv_inertia(b, rw.cross(j));
+}
+
+// A body index < 0 stands for the static world: this body never moves.
+inline RigidBody& body_or_world(State& s, Index b) {
+  static thread_local RigidBody world;  // inv_mass 0, at the origin, at rest
+  return b < 0 ? world : s.bodies[b];
+}
+
+// World point, world normal and lever arm of a contact at the body's current pose.
+struct Frame {
+  Vec3 p, n, rw;
+};
+inline Frame contact_frame(const RigidBody& b, const BodyContact& c, bool world) {
+  if (world) return {c.r, c.n, Vec3::Zero()};
+  const Vec3 rw = b.q * c.r;
+  return {b.x + rw, b.q * c.n, rw};
+}
+
+
+}  // namespace xpbd::rigid::detail
