@@ -14,7 +14,8 @@
 // below the ground than the contact thickness, no edge stretched more than
 // 20%, and the bar's path measurably changed by the cloth. The heavy-on-light
 // contact solve is not there yet (docs/bullet-bridge.md section 6): the
-// first two are printed, and asserted only for the case that meets them.
+// first two are printed, not asserted (docs/bullet-bridge.md section 6,
+// item 6, has the figures).
 #include <gtest/gtest.h>
 
 #include <cstdio>
