@@ -413,7 +413,7 @@ class BulletSim : public SoftSim {
     btSoftBodyWorldInfo& info = w.getWorldInfo();
     // Voxel of the sparse SDF btSoftBody's node contacts read (trilinear
     // interpolation of GJK distances sampled on the voxel grid): a quarter of
-    // the thinnest rigid feature (DESIGN.md section 5 asks for no more than
+    // the thinnest rigid feature (docs/design.md section 5 asks for no more than
     // the feature; at the full feature size the interpolation rounds a box's
     // edges by centimetres, see docs/metrics.md), at most Bullet's 0.25 m.
     const Real voxel = opt.bullet_sdf_voxel > Real(0)

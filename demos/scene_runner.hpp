@@ -8,7 +8,7 @@
 //              the particle system runs `substeps` substeps of `iterations`
 //              sweeps each;
 //   bullet     btSoftRigidDynamicsWorld + the same particle system built as a
-//              btSoftBody (xpbd_bullet::build_softbody, DESIGN.md section 5):
+//              btSoftBody (xpbd_bullet::build_softbody, docs/design.md section 5):
 //              `substeps` internal steps of dt/substeps per frame
 //              (stepSimulation(h, 1, h) each) with piterations = `iterations`,
 //              so both count substeps x iterations x elements projections.

@@ -4,14 +4,8 @@
 
 namespace xpbd_compare {
 
-double judged_error(const Row& r, double error_time) {
-  if (error_time <= 0 || static_reference(r.scene)) return r.err_rms_final;
-  const std::optional<double> e = rms_error_at(r, error_time);
-  return e ? *e : std::nan("");
-}
-
 std::vector<Cheapest> cheapest(const std::vector<Row>& rows, const std::string& scene, double target,
-                               double error_time) {
+                               Judge judge) {
   auto matches = [&](const std::string& s) {
     return s == scene || (s.size() > scene.size() + 1 && s.compare(0, scene.size(), scene) == 0 &&
                           s[scene.size()] == '_');
@@ -27,7 +21,7 @@ std::vector<Cheapest> cheapest(const std::vector<Row>& rows, const std::string& 
       c = &out.back();
     }
     if (r.status != "ok") continue;
-    const double e = judged_error(r, error_time);
+    const double e = judged_error(r, judge);
     if (!(e <= target)) continue;  // also rejects NaN
     const bool better = !c->row || r.wall_ms_median < c->row->wall_ms_median ||
                         (r.wall_ms_median == c->row->wall_ms_median &&
