@@ -29,7 +29,9 @@ row() {  # scene, solver, frames, stdout of the run
     printf "| `%s` | %s | %s x %s | %s | %s | %s | %s | %s | %s | %s |\n", scene, solver, $2, $4, frames, $5, $6, $7, $8, $9, $10 }' <<< "$4"
 }
 for scene in $("$demo" --list | awk '{print $1}'); do
-  frames=$("$demo" --dump "$scene" | awk -F'[:,]' '/"frames"/ { gsub(/ /, "", $2); print $2; exit }')
+  # awk reads the whole dump (an early exit would end xpbd-demo with SIGPIPE,
+  # which pipefail turns into a failure of the script).
+  frames=$("$demo" --dump "$scene" | awk -F'[:,]' '/"frames"/ && !done { gsub(/ /, "", $2); print $2; done = 1 }')
   out=$("$demo" "$scene" --solver xpbd --out "out/scenes/$scene/xpbd" 2>/dev/null)
   cp "out/scenes/$scene/xpbd/preview.png" "docs/scenes/$scene.png"
   row "$scene" xpbd "$frames" "$out" >> docs/scenes.md.tmp
