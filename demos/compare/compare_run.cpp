@@ -34,7 +34,7 @@ constexpr const char* kScalar = sizeof(xpbd::Real) == sizeof(double) ? "double" 
 
 struct RunSpec {
   std::size_t scene = 0;  // index into the scene list
-  std::string method;     // reference | xpbd | xpbd_coloured | xpbd_rigid_substeps | pbd | bullet (+ _float)
+  std::string method;     // reference, xpbd, xpbd_coloured, xpbd_rigid_substeps, xpbd_rigid_once, pbd, bullet (+ _float)
   Budget budget;
 };
 
