@@ -23,6 +23,10 @@ void check_settings(const SystemSettings& s) {
   };
   if (s.substeps < 1) bad("substeps", "must be >= 1, got " + std::to_string(s.substeps));
   if (s.iterations < 1) bad("iterations", "must be >= 1, got " + std::to_string(s.iterations));
+  if (s.contact_sweeps < 0)
+    bad("contact_sweeps", "must be >= 0, got " + std::to_string(s.contact_sweeps));
+  if (!(s.contact_tolerance >= Real(0)) || !std::isfinite(s.contact_tolerance))
+    bad("contact_tolerance", "must be finite and >= 0, got " + std::to_string(s.contact_tolerance));
   const ContactSettings& c = s.contacts;
   auto nonneg = [&](const char* f, Real v) {
     if (!(v >= Real(0)) || !std::isfinite(v))

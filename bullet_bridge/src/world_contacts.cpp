@@ -349,6 +349,8 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
   cfg.drag = set.drag;
   cfg.alternate_sweeps = set.alternate_sweeps;
   cfg.coloured = set.coloured;
+  cfg.contact_sweeps = set.contact_sweeps;
+  cfg.contact_tolerance = set.contact_tolerance;
   cfg.gravity = to_vec(world_.getGravity());
   cfg.times = times ? &times->step : nullptr;
   // Bodies moved without any contact: the reference the changes are taken from.

@@ -70,6 +70,19 @@ TEST(StepConfig, RejectsBadGravityAndDrag) {
   EXPECT_TRUE(config_error_names(m, s, cfg, {"drag", "-1"}));
 }
 
+TEST(StepConfig, RejectsBadContactSweeps) {
+  const Model m = compile(two_particles());
+  State s = make_state(m);
+  StepConfig cfg;
+  cfg.contact_sweeps = -2;
+  EXPECT_TRUE(config_error_names(m, s, cfg, {"contact_sweeps", "-2"}));
+  cfg = StepConfig{};
+  cfg.contact_tolerance = Real(-0.5);
+  EXPECT_TRUE(config_error_names(m, s, cfg, {"contact_tolerance", "-0.5"}));
+  cfg.contact_tolerance = std::numeric_limits<Real>::quiet_NaN();
+  EXPECT_TRUE(config_error_names(m, s, cfg, {"contact_tolerance"}));
+}
+
 TEST(StepConfig, RejectsStateOfAnotherModel) {
   const Model m = compile(two_particles());
   SceneDesc other = two_particles();

@@ -29,6 +29,10 @@ inline RigidBody& body_or_world(State& s, Index b) {
   static thread_local RigidBody world;  // inv_mass 0, at the origin, at rest
   return b < 0 ? world : s.bodies[b];
 }
+inline const RigidBody& body_or_world(const State& s, Index b) {
+  static const RigidBody world;
+  return b < 0 ? world : s.bodies[b];
+}
 
 // World point, world normal and lever arm of a contact at the body's current pose.
 struct Frame {

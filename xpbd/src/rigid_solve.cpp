@@ -210,6 +210,28 @@ void solve_triangle_contacts(const Model& m, State& s) {
   }
 }
 
+Real worst_contact_violation(const Model& m, const State& s) {
+  (void)m;
+  Real worst = 0;
+  for (const BodyContact& c : s.contacts) {
+    const RigidBody& b = body_or_world(s, c.body);
+    const Frame f = contact_frame(b, c, c.body < 0);
+    const Real C = f.n.dot(s.x[c.particle] - f.p) - c.thickness;
+    if (C < Real(0) && c.thickness > Real(0)) worst = std::max(worst, -C / c.thickness);
+  }
+  for (const BodyTriangleContact& c : s.triangle_contacts) {
+    const RigidBody& b = body_or_world(s, c.body);
+    const Vec3 q = c.body < 0 ? c.r : Vec3(b.x + b.q * c.r);
+    Real C;
+    Vec3 g[4];
+    if (!Penetration::point_triangle(q, s.x[c.tri[0]], s.x[c.tri[1]], s.x[c.tri[2]], c.side,
+                                     c.thickness, C, g))
+      continue;
+    if (C < Real(0) && c.thickness > Real(0)) worst = std::max(worst, -C / c.thickness);
+  }
+  return worst;
+}
+
 void update_body_velocities(std::vector<RigidBody>& bodies, Real h) {
   const Real inv_h = Real(1) / h;
   for (RigidBody& b : bodies) {

@@ -146,6 +146,12 @@ void validate(const StepConfig& cfg) {
   if (!cfg.gravity.allFinite()) throw ConfigError("StepConfig.gravity: must be finite");
   if (!(cfg.drag >= Real(0)) || !std::isfinite(cfg.drag))
     throw ConfigError("StepConfig.drag: must be finite and >= 0, got " + num(cfg.drag));
+  if (cfg.contact_sweeps < 0)
+    throw ConfigError("StepConfig.contact_sweeps: must be >= 0, got " +
+                      std::to_string(cfg.contact_sweeps));
+  if (!(cfg.contact_tolerance >= Real(0)) || !std::isfinite(cfg.contact_tolerance))
+    throw ConfigError("StepConfig.contact_tolerance: must be finite and >= 0, got " +
+                      num(cfg.contact_tolerance));
 }
 
 void step(const Model& m, State& s, const StepConfig& cfg) {
@@ -178,6 +184,7 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
   sc.eval.planes = m.planes.data();
   sc.eval.penetration_side = s.penetration_side.data();
 
+  std::uint64_t sweeps = 0;  // in this step
   for (int sub = 0; sub < cfg.substeps; ++sub) {
     timed(t, stage::predict, true, [&] {
       // 1. Move kinematic targets to where they are at the end of this substep.
@@ -191,17 +198,30 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
       // Lambda starts at zero every substep (Algorithm 2, line 6).
       reset_multipliers(s);
     });
-    // 3. Solve: `iterations` Gauss-Seidel sweeps over all constraints.
-    for (int it = 0; it < cfg.iterations; ++it) {
+    // 3. Solve: `iterations` Gauss-Seidel sweeps over all constraints, then
+    // up to `contact_sweeps` more while a contact is violated when the
+    // contacts' turn comes in the sweep (after the first sweep: the
+    // prediction; after later ones: what the other constraints did to the
+    // positions the contacts left; after the contacts' own projection the
+    // violation is always about 0 and tells nothing).
+    const bool check = cfg.contact_sweeps > 0 && (!s.contacts.empty() || !s.triangle_contacts.empty());
+    Real violation = 0, before = 0;
+    for (int it = 0; it < cfg.iterations + cfg.contact_sweeps; ++it) {
+      if (it >= cfg.iterations &&
+          !(violation > cfg.contact_tolerance && (it == 1 || violation < Real(0.9) * before)))
+        break;
+      before = violation;
       // StepConfig::alternate_sweeps: every other sweep, counted across
       // substeps and across steps (State::sweeps; so that one iteration per
       // substep, and one substep per step, alternate too), runs last to first.
-      sc.reverse = cfg.alternate_sweeps && ((s.sweeps + std::uint64_t(sub * cfg.iterations + it)) & 1) != 0;
+      sc.reverse = cfg.alternate_sweeps && ((s.sweeps + sweeps) & 1) != 0;
+      ++sweeps;
       solve_constraints(m, s, sc, cfg.coloured, t);
       timed(t, stage::self_collision_solve, !s.self_collision.pairs.empty(),
             [&] { solve_self_collisions(m, s, sc); });
       timed(t, stage::body_attachments, !s.attachments.empty(),
             [&] { rigid::solve_attachments(m, s, h); });
+      if (check) violation = rigid::worst_contact_violation(m, s);
       timed(t, stage::body_contacts, !s.contacts.empty(), [&] { rigid::solve_contacts(m, s, h); });
       timed(t, stage::triangle_contacts, !s.triangle_contacts.empty(),
             [&] { rigid::solve_triangle_contacts(m, s); });
@@ -216,7 +236,7 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
           [&] { rigid::contact_velocities(m, s, h, cfg.gravity.norm()); });
   }
   s.pin_target_prev = s.pin_target;  // same size: no allocation
-  s.sweeps += std::uint64_t(cfg.substeps) * std::uint64_t(cfg.iterations);
+  s.sweeps += sweeps;
   s.time += cfg.dt;
   s.last_substep = h;
   if (t != nullptr) ++t->steps;

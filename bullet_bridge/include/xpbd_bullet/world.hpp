@@ -127,6 +127,11 @@ struct SystemSettings {
   xpbd::Real drag = 0;  // 1/s
   bool alternate_sweeps = false;  // xpbd::StepConfig::alternate_sweeps
   bool coloured = false;          // xpbd::StepConfig::coloured
+  // Extra sweeps where contacts need them (xpbd::StepConfig::contact_sweeps,
+  // >= 0; 0 = off): e.g. 8 for a heavy body landing on cloth that supports
+  // it through its own edges (docs/design.md, "Heavy on light").
+  int contact_sweeps = 0;
+  xpbd::Real contact_tolerance = xpbd::Real(0.1);  // xpbd::StepConfig::contact_tolerance (>= 0)
   ContactSettings contacts;
   // Opt-in timing: when set, every step of the system adds its stage times
   // to *times (which must outlive the system or be reset to nullptr).

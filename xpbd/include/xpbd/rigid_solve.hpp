@@ -26,6 +26,12 @@ void solve_attachments(const Model& m, State& s, Real h);
 void solve_contacts(const Model& m, State& s, Real h);
 void solve_triangle_contacts(const Model& m, State& s);
 
+// The largest contact violation relative to its thickness over body
+// contacts and rigid-feature-vs-triangle contacts: max over contacts of
+// -C / thickness, where C >= 0 is the contact constraint (0 when every
+// contact holds, 1 when a particle centre is on the body's surface).
+Real worst_contact_violation(const Model& m, const State& s);
+
 // v = (x - x_prev)/h and w from the quaternion change.
 void update_body_velocities(std::vector<RigidBody>& bodies, Real h);
 

@@ -43,6 +43,17 @@ struct StepConfig {
   // 4 ms per frame up (position error 11-27% lower, strain 3-28% lower) and
   // less accurate below (strain about 0.023 against 0.017 at 2.6 ms).
   bool coloured = false;
+  // Extra sweeps where contacts need them (off by default): after the
+  // `iterations` sweeps of a substep, another sweep runs while some body or
+  // triangle contact is violated by more than contact_tolerance times its
+  // thickness when the contacts' turn comes in the sweep (before they are
+  // projected; rigid::worst_contact_violation) and that violation fell by at
+  // least 10% since the sweep before; at most `contact_sweeps` more per
+  // substep. The violation counts only contacts the host supplied for the
+  // step. Costs one pass over the contacts per sweep when on. Measured in
+  // docs/design.md, "Heavy on light": why it is not the default.
+  int contact_sweeps = 0;
+  Real contact_tolerance = Real(0.1);
   // Opt-in per-stage wall-clock breakdown (profile.hpp): when set, step()
   // adds each stage's time to *times. nullptr (default) = no timing. Does not
   // change the result: the trajectory is the same bit for bit.
