@@ -201,7 +201,18 @@ class XpbdWorld : public btActionInterface {
 
   // btActionInterface: after Bullet's integration, applies the residual poses.
   void updateAction(btCollisionWorld* world, btScalar dt) override;
-  void debugDraw(btIDebugDraw*) override {}
+  // btActionInterface, called by the world's debugDrawWorld() when its
+  // drawer's mode has DBG_DrawWireframe or DBG_DrawContactPoints (Bullet
+  // calls the actions only for a mode with DBG_DrawWireframe, DBG_DrawAabb
+  // or DBG_DrawNormals; call it yourself for contacts alone):
+  //  - DBG_DrawWireframe: one line per Distance element of each system, or,
+  //    for a system without Distance elements, the edges of its collision
+  //    triangles; in the drawer's m_activeObject colour, or
+  //    m_disabledSimulationObject for a system whose step failed;
+  //  - DBG_DrawContactPoints: each particle-body contact of the system's last
+  //    step (drawContactPoint: the point on the body, its normal, the
+  //    particle's distance along it), in m_contactPoint colour.
+  void debugDraw(btIDebugDraw* drawer) override;
 
  private:
   struct System;
