@@ -22,11 +22,11 @@ namespace {
 // other polyhedral shapes (hulls), recursively for compounds. Smooth shapes
 // (sphere, capsule, cylinder, cone) and meshes have none.
 void collect_features(const btCollisionShape& shape, const btTransform& t, Real spacing,
-                      std::vector<Vec3>& out) {
+                      std::vector<Vec3>& out, bool edges = true) {
   if (shape.isCompound()) {
     const auto& c = static_cast<const btCompoundShape&>(shape);
     for (int i = 0; i < c.getNumChildShapes(); ++i)
-      collect_features(*c.getChildShape(i), t * c.getChildTransform(i), spacing, out);
+      collect_features(*c.getChildShape(i), t * c.getChildTransform(i), spacing, out, edges);
     return;
   }
   if (!shape.isPolyhedral()) return;
@@ -36,7 +36,7 @@ void collect_features(const btCollisionShape& shape, const btTransform& t, Real 
     p.getVertex(i, v);
     out.push_back(to_vec(t * v));
   }
-  if (shape.getShapeType() != BOX_SHAPE_PROXYTYPE) return;
+  if (!edges || shape.getShapeType() != BOX_SHAPE_PROXYTYPE) return;
   for (int i = 0; i < p.getNumEdges(); ++i) {
     btVector3 a, b;
     p.getEdge(i, a, b);
@@ -191,6 +191,58 @@ void XpbdWorld::find_triangle_contacts(System& s, btScalar dt, const Vec3& lo, c
   stats_.triangle_contacts += static_cast<int>(st.triangle_contacts.size());
 }
 
+void XpbdWorld::add_world_contacts(System& s, btScalar dt) {
+  xpbd::State& st = s.state;
+  const ContactSettings& cs = s.settings.contacts;
+  btDispatcher* const d = world_.getDispatcher();
+  const int nm = d->getNumManifolds();
+  for (std::size_t i = 0; i < st.bodies.size(); ++i) {
+    const Shadow& sh = shadows_[static_cast<std::size_t>(s.shadow_of_body[i])];
+    const btRigidBody* rb = sh.dynamic;
+    if (rb == nullptr || !rb->hasContactResponse()) continue;
+    // The body's vertices (box corners, hull vertices), body frame: a box
+    // lying on the ground has its four lower corners in contact, where
+    // Bullet's manifold may hold only one to three points.
+    features_.clear();
+    collect_features(*rb->getCollisionShape(), btTransform::getIdentity(), cs.feature_spacing, features_,
+                     false);
+    const Real reach = cs.margin + dt * (sh.v.norm() + dt * sh.accel.norm());
+    const Real turn = dt * (sh.w.norm() + dt * sh.ang_accel.norm());
+    for (int k = 0; k < nm; ++k) {
+      const btPersistentManifold* pm = d->getManifoldByIndexInternal(k);
+      const bool first = pm->getBody0() == rb;
+      if (!first && pm->getBody1() != rb) continue;
+      const btCollisionObject* other = first ? pm->getBody1() : pm->getBody0();
+      // Static bodies only: a kinematic one moves during the step.
+      if (!other->isStaticObject() || other->isKinematicObject() || !other->hasContactResponse())
+        continue;
+      auto add = [&](const Vec3& r, const Vec3& p, const Vec3& n) {
+        xpbd::BodyWorldContact c;
+        c.body = static_cast<Index>(i);
+        c.r = r;
+        c.p = p;
+        c.n = n;
+        c.friction = std::max(Real(rb->getFriction() * other->getFriction()), Real(0));
+        st.world_contacts.push_back(c);
+      };
+      // Bullet's manifold points (the only ones for smooth shapes)...
+      for (int j = 0; j < pm->getNumContacts(); ++j) {
+        const btManifoldPoint& p = pm->getContactPoint(j);
+        add(to_vec(first ? p.m_localPointA : p.m_localPointB),
+            to_vec(first ? p.m_positionWorldOnB : p.m_positionWorldOnA),
+            to_vec(first ? p.m_normalWorldOnB : -p.m_normalWorldOnB));
+      }
+      // ... and the body's vertices near the static body, at the start pose.
+      if (!is_supported(*other->getCollisionShape())) continue;
+      for (const Vec3& r : features_) {
+        const Vec3 q = to_vec(sh.start * to_bt(r));
+        ParticleContact pc;
+        if (query_point(*other, q, reach + turn * r.norm(), pc)) add(r, pc.point, pc.normal);
+      }
+    }
+  }
+}
+
 void XpbdWorld::step_system(System& s, btScalar dt) {
   const xpbd::Model& m = *s.model;
   xpbd::State& st = s.state;
@@ -340,6 +392,10 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
       ++times->calls[SystemTimes::contacts];
     }
   }
+
+  // The coupled bodies' contacts with static bodies, inside the substeps.
+  st.world_contacts.clear();
+  if (set.coupled_static_contacts) add_world_contacts(s, dt);
 
   xpbd::StepConfig cfg;
   cfg.dt = dt;

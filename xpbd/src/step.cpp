@@ -221,6 +221,9 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
             [&] { solve_self_collisions(m, s, sc); });
       timed(t, stage::body_attachments, !s.attachments.empty(),
             [&] { rigid::solve_attachments(m, s, h); });
+      // The bodies' contacts with the static world first: the particle
+      // contacts, last, then leave no particle inside a body.
+      timed(t, stage::body_contacts, !s.world_contacts.empty(), [&] { rigid::solve_world_contacts(s); });
       if (check) violation = rigid::worst_contact_violation(m, s);
       timed(t, stage::body_contacts, !s.contacts.empty(), [&] { rigid::solve_contacts(m, s, h); });
       timed(t, stage::triangle_contacts, !s.triangle_contacts.empty(),
@@ -234,6 +237,8 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
     // 5. Contact friction and restitution on the new velocities.
     timed(t, stage::contact_velocities, !s.contacts.empty(),
           [&] { rigid::contact_velocities(m, s, h, cfg.gravity.norm()); });
+    timed(t, stage::contact_velocities, !s.world_contacts.empty(),
+          [&] { rigid::world_contact_velocities(s, h); });
   }
   s.pin_target_prev = s.pin_target;  // same size: no allocation
   s.sweeps += sweeps;

@@ -132,6 +132,11 @@ struct SystemSettings {
   // it through its own edges (docs/design.md, "Heavy on light").
   int contact_sweeps = 0;
   xpbd::Real contact_tolerance = xpbd::Real(0.1);  // xpbd::StepConfig::contact_tolerance (>= 0)
+  // The coupled dynamic bodies' contacts with static bodies (the ground),
+  // taken from Bullet's contact manifolds of the last collision detection,
+  // are solved inside the XPBD substeps too (xpbd::BodyWorldContact), so a
+  // cloth pressing a box onto the ground does not push it into it.
+  bool coupled_static_contacts = true;
   ContactSettings contacts;
   // Opt-in timing: when set, every step of the system adds its stage times
   // to *times (which must outlive the system or be reset to nullptr).
@@ -235,6 +240,10 @@ class XpbdWorld : public btActionInterface {
   int shadow_for(const btCollisionObject* obj, btScalar dt);
   // Index into State::bodies of obj's shadow for system s (added on first use).
   xpbd::Index body_index(System& s, const btCollisionObject* obj, btScalar dt);
+  // s's dynamic bodies' contact points with the static bodies they have a
+  // Bullet manifold with (its points, and the bodies' vertices near them),
+  // into State::world_contacts.
+  void add_world_contacts(System& s, btScalar dt);
   // Rigid feature points of the candidates against s's collision triangles.
   void find_triangle_contacts(System& s, btScalar dt, const xpbd::Vec3& lo, const xpbd::Vec3& hi);
 

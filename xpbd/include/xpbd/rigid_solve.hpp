@@ -25,6 +25,12 @@ void predict_bodies(std::vector<RigidBody>& bodies, Real h);
 void solve_attachments(const Model& m, State& s, Real h);
 void solve_contacts(const Model& m, State& s, Real h);
 void solve_triangle_contacts(const Model& m, State& s);
+// Bodies against the static world (BodyWorldContact): normal push, then
+// static Coulomb friction at position level.
+void solve_world_contacts(State& s);
+// Dynamic Coulomb friction of the bodies' world contacts on the new body
+// velocities (after update_body_velocities).
+void world_contact_velocities(State& s, Real h);
 
 // The largest contact violation relative to its thickness over body
 // contacts and rigid-feature-vs-triangle contacts: max over contacts of

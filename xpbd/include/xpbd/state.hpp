@@ -57,6 +57,9 @@ struct State {
   std::vector<Real> triangle_contact_lambda;  // kg*m, parallel (sized by step())
   std::vector<BodyAttachment> attachments;
   std::vector<Real> attachment_lambda;      // kg*m, parallel to attachments (sized by step())
+  std::vector<BodyWorldContact> world_contacts;  // bodies against the static world
+  std::vector<ContactLambda> world_contact_lambda;  // parallel (sized by step())
+  std::vector<Real> world_contact_slack;  // m, <= 0: the overlap each starts the step with (step())
 
   // Particle-particle collision (spatial_hash.hpp): hash and the pairs found
   // at the start of the current step. Empty when the model has it off.
