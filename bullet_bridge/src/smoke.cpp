@@ -2,8 +2,6 @@
 
 #include <btBulletDynamicsCommon.h>
 
-#include <fcl/narrowphase/distance.h>
-#include <memory>
 #include <type_traits>
 
 #include "xpbd/types.hpp"
@@ -35,19 +33,6 @@ double drop_sphere_on_ground(double y0, double seconds) {
   world.removeRigidBody(&sphere);
   world.removeRigidBody(&ground);
   return y;
-}
-
-double fcl_sphere_distance(double r1, double r2, double d) {
-  auto s1 = std::make_shared<fcl::Sphered>(r1);
-  auto s2 = std::make_shared<fcl::Sphered>(r2);
-  fcl::CollisionObjectd a(s1, fcl::Transform3d::Identity());
-  fcl::Transform3d t = fcl::Transform3d::Identity();
-  t.translation() = fcl::Vector3d(d, 0, 0);
-  fcl::CollisionObjectd b(s2, t);
-  fcl::DistanceRequestd req;
-  fcl::DistanceResultd res;
-  fcl::distance(&a, &b, req, res);
-  return res.min_distance;
 }
 
 bool bullet_scalar_matches() { return std::is_same_v<btScalar, xpbd::Real>; }

@@ -1,5 +1,12 @@
-// Smoke tests of the Bullet and FCL link, against closed-form answers.
+// Smoke tests of the Bullet and FCL link, against closed-form answers. FCL
+// is not a dependency of the bridge library (none of its code calls FCL);
+// the tests that use it (this one, test_narrowphase_fcl) link it themselves
+// (tests/CMakeLists.txt).
 #include <gtest/gtest.h>
+
+#include <fcl/narrowphase/distance.h>
+
+#include <memory>
 
 #include "xpbd_bullet/smoke.hpp"
 
@@ -12,5 +19,15 @@ TEST(BridgeSmoke, SphereComesToRestOnGroundAtItsRadius) {
 }
 
 TEST(BridgeSmoke, FclSphereSphereDistanceIsCentreDistanceMinusRadii) {
-  EXPECT_NEAR(xpbd_bullet::fcl_sphere_distance(0.5, 0.25, 2.0), 1.25, 1e-6);
+  // Spheres of radius 0.5 and 0.25 m whose centres are 2 m apart.
+  auto s1 = std::make_shared<fcl::Sphered>(0.5);
+  auto s2 = std::make_shared<fcl::Sphered>(0.25);
+  fcl::CollisionObjectd a(s1, fcl::Transform3d::Identity());
+  fcl::Transform3d t = fcl::Transform3d::Identity();
+  t.translation() = fcl::Vector3d(2.0, 0, 0);
+  fcl::CollisionObjectd b(s2, t);
+  fcl::DistanceRequestd req;
+  fcl::DistanceResultd res;
+  fcl::distance(&a, &b, req, res);
+  EXPECT_NEAR(res.min_distance, 1.25, 1e-6);
 }

@@ -1,14 +1,11 @@
 #pragma once
 // Placeholder content of the bridge until the Bullet bridge issue fills it:
-// proves that the matching Bullet build and FCL link and answer.
+// proves that the matching Bullet build links and answers.
 namespace xpbd_bullet {
 
 // Drops a unit sphere from y0 onto a static ground plane in a
 // btDiscreteDynamicsWorld for `seconds`; returns the final height of its centre (m).
 double drop_sphere_on_ground(double y0, double seconds);
-
-// FCL distance between two spheres of radius r1, r2 whose centres are `d` apart (m).
-double fcl_sphere_distance(double r1, double r2, double d);
 
 // True if Bullet was built with the same scalar as xpbd::Real.
 bool bullet_scalar_matches();
