@@ -1,5 +1,5 @@
 #pragma once
-// Wavefront OBJ meshes as xpbd scenes (library xpbd_io, target xpbd::io).
+// Wavefront OBJ meshes as xpbd scenes (library xpbd_io, target xpbd_bullet::io).
 //
 // Only vertex positions ('v') and faces ('f') are read; normals, texture
 // coordinates, materials, lines and points are ignored. All objects and
