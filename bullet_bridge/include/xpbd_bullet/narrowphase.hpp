@@ -24,6 +24,8 @@
 //
 // None of the queries allocates memory, and all are safe to call concurrently
 // on objects that are not being modified.
+#include "xpbd_bullet/precision_check.hpp"  // first: the float/double guard
+
 #include <vector>
 
 #include "xpbd/types.hpp"

@@ -1,6 +1,8 @@
 #pragma once
 // Placeholder content of the bridge until the Bullet bridge issue fills it:
 // proves that the matching Bullet build links and answers.
+#include "xpbd_bullet/precision_check.hpp"  // first: the float/double guard
+
 namespace xpbd_bullet {
 
 // Drops a unit sphere from y0 onto a static ground plane in a

@@ -28,6 +28,8 @@
 // particles of non-zero mass (btSoftBody has no compliant pin without a rigid
 // anchor), and pins whose target differs from the particle's initial
 // position. Particle radii are ignored (no contacts here).
+#include "xpbd_bullet/precision_check.hpp"  // first: the float/double guard
+
 #include <memory>
 #include <vector>
 

@@ -40,6 +40,8 @@
 // one kLST, which is calibrated by measured strain (docs/design.md section 5).
 // collision_triangles and particle radii are not part of the soft body
 // (btSoftBody collides its nodes, with one margin per body).
+#include "xpbd_bullet/precision_check.hpp"  // first: the float/double guard
+
 #include <memory>
 #include <string>
 #include <vector>

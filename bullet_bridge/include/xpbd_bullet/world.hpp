@@ -50,6 +50,8 @@
 // body has been removed from the world is inactive (checked every step
 // against the world's object array), but the body must not be deleted while
 // an attachment still names it (remove_attachment first).
+#include "xpbd_bullet/precision_check.hpp"  // first: the float/double guard
+
 #include <btBulletDynamicsCommon.h>
 
 #include <array>

@@ -2,18 +2,21 @@
 // Scalar and vector types shared by the whole solver.
 //
 // The scalar type is chosen at configure time (CMake option XPBD_DOUBLE, ON by
-// default). The Bullet bridge links the Debian Bullet build of the same
-// precision (bullet-float64 for double, bullet for float).
+// default) and recorded in the generated header xpbd/config.hpp. The Bullet
+// bridge links the Debian Bullet build of the same precision (bullet-float64
+// for double, bullet for float).
 #include <Eigen/Core>
 #include <cstdint>
 #include <limits>
 
+#include "xpbd/config.hpp"
+
 namespace xpbd {
 
-#ifdef XPBD_USE_FLOAT
-using Real = float;
-#else
+#if XPBD_DOUBLE
 using Real = double;
+#else
+using Real = float;
 #endif
 
 using Vec3 = Eigen::Matrix<Real, 3, 1>;
