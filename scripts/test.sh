@@ -3,6 +3,8 @@
 #   - double precision (default build): all labels
 #   - float build: unit, bridge, integration and demos (the closed-form
 #     validation tolerances are set for double)
+#   - the installed package: both builds installed side by side into a
+#     temporary prefix and used from outside the tree (scripts/consumer_test.sh)
 #   - ASan + UBSan build: unit, validation, bridge and demos (scene-file parsing,
 #     the runner, exports)
 # Exits non-zero on any build or test failure.
@@ -15,6 +17,7 @@ ctest --test-dir build/double --output-on-failure -j"$jobs"
 
 scripts/setup.sh float
 ctest --test-dir build/float --output-on-failure -j"$jobs" -L 'unit|bridge|integration|demos'
+scripts/consumer_test.sh build/double build/float
 
 scripts/setup.sh asan
 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
