@@ -80,7 +80,7 @@ install(FILES ${XPBD_GENERATED_INCLUDE_DIR}/xpbd/config.hpp
 
 # The package config, its version file and the Bullet helper: the same
 # files from both builds.
-configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/xpbd_bullet-config.cmake.in
+configure_package_config_file(${PROJECT_SOURCE_DIR}/bullet_bridge/cmake/xpbd_bullet-config.cmake.in
   ${PROJECT_BINARY_DIR}/xpbd_bullet-config.cmake
   INSTALL_DESTINATION ${XPBD_CMAKE_DIR})
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/xpbd_bullet-config-version.cmake
@@ -88,7 +88,7 @@ write_basic_package_version_file(${PROJECT_BINARY_DIR}/xpbd_bullet-config-versio
 install(FILES
   ${PROJECT_BINARY_DIR}/xpbd_bullet-config.cmake
   ${PROJECT_BINARY_DIR}/xpbd_bullet-config-version.cmake
-  ${PROJECT_SOURCE_DIR}/cmake/xpbd_bullet-bullet.cmake
+  ${PROJECT_SOURCE_DIR}/bullet_bridge/cmake/xpbd_bullet-bullet.cmake
   DESTINATION ${XPBD_CMAKE_DIR})
 
 # pkg-config, relocatable: the prefix is found from the .pc file's own
@@ -105,6 +105,6 @@ else()
   set(XPBD_PC_LIBDIR "\${prefix}/${CMAKE_INSTALL_LIBDIR}")
   set(XPBD_PC_INCLUDEDIR "\${prefix}/${CMAKE_INSTALL_INCLUDEDIR}")
 endif()
-configure_file(${PROJECT_SOURCE_DIR}/cmake/xpbd_bullet.pc.in
+configure_file(${PROJECT_SOURCE_DIR}/bullet_bridge/cmake/xpbd_bullet.pc.in
   ${PROJECT_BINARY_DIR}/${XPBD_PC_NAME}.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/${XPBD_PC_NAME}.pc DESTINATION ${xpbd_pc_dir})
