@@ -26,11 +26,11 @@ void check_settings(const SystemSettings& s) {
   if (s.contact_sweeps < 0)
     bad("contact_sweeps", "must be >= 0, got " + std::to_string(s.contact_sweeps));
   if (!(s.contact_tolerance >= Real(0)) || !std::isfinite(s.contact_tolerance))
-    bad("contact_tolerance", "must be finite and >= 0, got " + std::to_string(s.contact_tolerance));
+    bad("contact_tolerance", "must be finite and >= 0, got " + xpbd::format_value(double(s.contact_tolerance)));
   const ContactSettings& c = s.contacts;
   auto nonneg = [&](const char* f, Real v) {
     if (!(v >= Real(0)) || !std::isfinite(v))
-      bad(std::string("contacts.") + f, "must be finite and >= 0, got " + std::to_string(v));
+      bad(std::string("contacts.") + f, "must be finite and >= 0, got " + xpbd::format_value(double(v)));
   };
   nonneg("margin", c.margin);
   nonneg("thickness", c.thickness);
@@ -39,8 +39,8 @@ void check_settings(const SystemSettings& s) {
   nonneg("restitution", c.restitution);
   nonneg("compliance", c.compliance);
   if (!(c.feature_spacing > Real(0)) || !std::isfinite(c.feature_spacing))
-    bad("contacts.feature_spacing", "must be finite and > 0, got " + std::to_string(c.feature_spacing));
-  if (c.restitution > Real(1)) bad("contacts.restitution", "must be <= 1, got " + std::to_string(c.restitution));
+    bad("contacts.feature_spacing", "must be finite and > 0, got " + xpbd::format_value(double(c.feature_spacing)));
+  if (c.restitution > Real(1)) bad("contacts.restitution", "must be <= 1, got " + xpbd::format_value(double(c.restitution)));
 }
 
 // Bullet has no getter for the pre-tick callback; it is a protected member
@@ -219,7 +219,12 @@ const XpbdWorld::System& XpbdWorld::system(int id) const {
 xpbd::State& XpbdWorld::state(int id) { return system(id).state; }
 const xpbd::State& XpbdWorld::state(int id) const { return system(id).state; }
 const xpbd::Model& XpbdWorld::model(int id) const { return *system(id).model; }
-SystemSettings& XpbdWorld::settings(int id) { return system(id).settings; }
+const SystemSettings& XpbdWorld::settings(int id) const { return system(id).settings; }
+void XpbdWorld::set_settings(int id, const SystemSettings& settings) {
+  System& s = system(id);
+  check_settings(settings);
+  s.settings = settings;
+}
 
 int XpbdWorld::attach(int id, Index particle, btRigidBody* body, const btVector3& local,
                       Real compliance) {

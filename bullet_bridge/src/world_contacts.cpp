@@ -8,8 +8,10 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "world_impl.hpp"
+#include "xpbd/error.hpp"
 #include "xpbd/rigid_solve.hpp"
 #include "xpbd/step.hpp"
 #include "xpbd_bullet/narrowphase.hpp"
@@ -214,7 +216,8 @@ void XpbdWorld::add_world_contacts(System& s, btScalar dt) {
       if (!first && pm->getBody1() != rb) continue;
       const btCollisionObject* other = first ? pm->getBody1() : pm->getBody0();
       // Static bodies only: a kinematic one moves during the step.
-      if (!other->isStaticObject() || other->isKinematicObject() || !other->hasContactResponse())
+      if (!other->isStaticObject() || other->isKinematicObject() || !other->hasContactResponse() ||
+          !finite_body(other))
         continue;
       auto add = [&](const Vec3& r, const Vec3& p, const Vec3& n) {
         xpbd::BodyWorldContact c;
@@ -249,6 +252,15 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
   const SystemSettings& set = s.settings;
   const ContactSettings& cs = set.contacts;
   const Index n = m.num_particles();
+  if (static_cast<Index>(st.x.size()) != n || static_cast<Index>(st.v.size()) != n)
+    throw xpbd::ConfigError("state: has " + std::to_string(st.x.size()) + " particles, the model " +
+                            std::to_string(n));
+  // A state that is not finite (diverged, or edited so) cannot be stepped:
+  // the system stops here with the first bad particle named (error(id)).
+  for (Index i = 0; i < n; ++i)
+    if (!st.x[i].allFinite() || !st.v[i].allFinite())
+      throw xpbd::ConfigError("state: particle " + std::to_string(i) +
+                              " has a position or velocity that is not finite (diverged?)");
 
   st.bodies.clear();
   st.contacts.clear();
@@ -261,6 +273,10 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
   xpbd::timed(times, SystemTimes::shadows, !attachments_.empty(), [&] {
     for (const Attachment& a : attachments_) {
       if (a.system != s.id || !in_world(world_, a.body)) continue;
+      if (!finite_body(a.body)) {
+        ++stats_.skipped_bodies;
+        continue;
+      }
       const Index b = body_index(s, a.body, dt);
       st.attachments.push_back(xpbd::BodyAttachment{a.particle, b, to_vec(a.local), a.compliance});
     }
@@ -282,6 +298,10 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
     lo.array() -= grow;
     hi.array() += grow;
     candidates(world_, lo, hi, candidates_, cs.filter_group, cs.filter_mask);
+    const auto bad = std::remove_if(candidates_.begin(), candidates_.end(),
+                                    [](const btCollisionObject* o) { return !finite_body(o); });
+    stats_.skipped_bodies += static_cast<int>(candidates_.end() - bad);
+    candidates_.erase(bad, candidates_.end());
     stats_.candidates += static_cast<int>(candidates_.size());
 
     // What the contact loop needs of each candidate (copied: shadow_for()

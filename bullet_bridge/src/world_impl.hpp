@@ -4,6 +4,7 @@
 // XPBD step of one system). Internal to the bridge.
 #include <btBulletDynamicsCommon.h>
 
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -23,6 +24,23 @@ inline Vec3 to_vec(const btVector3& v) { return Vec3(v.x(), v.y(), v.z()); }
 inline btVector3 to_bt(const Vec3& v) { return btVector3(v.x(), v.y(), v.z()); }
 inline Quat to_quat(const btQuaternion& q) { return Quat(q.w(), q.x(), q.y(), q.z()); }
 inline btQuaternion to_bt(const Quat& q) { return btQuaternion(q.x(), q.y(), q.z(), q.w()); }
+
+// True if o's pose (and, for a rigid body, its velocities) are finite: a body
+// that is not is left out of the systems' steps (StepStats::skipped_bodies).
+inline bool finite_body(const btCollisionObject* o) {
+  const btTransform& t = o->getWorldTransform();
+  bool ok = std::isfinite(t.getOrigin().x()) && std::isfinite(t.getOrigin().y()) &&
+            std::isfinite(t.getOrigin().z());
+  for (int r = 0; r < 3 && ok; ++r)
+    ok = std::isfinite(t.getBasis()[r].x()) && std::isfinite(t.getBasis()[r].y()) &&
+         std::isfinite(t.getBasis()[r].z());
+  if (const btRigidBody* rb = btRigidBody::upcast(o); rb && ok) {
+    const btVector3 v = rb->getLinearVelocity(), w = rb->getAngularVelocity();
+    ok = std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()) && std::isfinite(w.x()) &&
+         std::isfinite(w.y()) && std::isfinite(w.z());
+  }
+  return ok;
+}
 
 // True if o is in w's object array (bodies can be removed between steps).
 inline bool in_world(const btCollisionWorld& w, const btCollisionObject* o) {

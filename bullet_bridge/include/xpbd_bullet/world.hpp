@@ -40,9 +40,13 @@
 // next updateAction finds the hook gone: it chains the new callback, puts its
 // own back, and runs that one step late (StepStats::late).
 //
-// Errors: nothing is thrown out of stepSimulation. A system whose step fails
-// (bad settings edited between steps, a state so far blown up that a query
-// refuses it) is no longer stepped; error(id) says why.
+// Errors: nothing is thrown out of stepSimulation. Settings are checked where
+// they are set (add_system, set_settings). A rigid body whose pose or
+// velocity is not finite is left out of every system's step (no contacts,
+// its attachments inactive; StepStats::skipped_bodies) rather than stopping
+// them. A system whose step fails all the same (a state so far blown up
+// that a query refuses it) is no longer stepped; error(id) says why, and the
+// other systems go on.
 //
 // Rigid bodies may be removed from the world between steps: contacts and
 // shadow bodies are rebuilt every step, so nothing about a removed body is
@@ -159,6 +163,7 @@ struct StepStats {
   int coupled = 0;     // dynamic bodies handed a change (velocity and residual)
   int late = 0;        // 1 if this step ran from updateAction because the pre-tick hook had been replaced
   int failed = 0;      // systems whose step failed in this step (error(id) says why)
+  int skipped_bodies = 0;  // bodies left out because their pose or velocity is not finite, summed over systems
 };
 
 class XpbdWorld : public btActionInterface {
@@ -195,7 +200,12 @@ class XpbdWorld : public btActionInterface {
   xpbd::State& state(int id);
   const xpbd::State& state(int id) const;
   const xpbd::Model& model(int id) const;
-  SystemSettings& settings(int id);
+  // The system's settings. To change them, pass new ones to set_settings,
+  // which checks them first: a bad value throws xpbd::ConfigError naming the
+  // field and value there, and the system keeps its old settings. They take
+  // effect at the next step; the system keeps its id and attachments.
+  const SystemSettings& settings(int id) const;
+  void set_settings(int id, const SystemSettings& settings);
 
   const StepStats& last_stats() const { return stats_; }
 
