@@ -220,6 +220,14 @@ xpbd::State& XpbdWorld::state(int id) { return system(id).state; }
 const xpbd::State& XpbdWorld::state(int id) const { return system(id).state; }
 const xpbd::Model& XpbdWorld::model(int id) const { return *system(id).model; }
 const SystemSettings& XpbdWorld::settings(int id) const { return system(id).settings; }
+xpbd::Model& XpbdWorld::own_model(int id) {
+  System& s = system(id);
+  if (!s.own_model) {
+    s.own_model = std::make_shared<xpbd::Model>(*s.model);
+    s.model = s.own_model;
+  }
+  return *s.own_model;
+}
 void XpbdWorld::set_settings(int id, const SystemSettings& settings) {
   System& s = system(id);
   check_settings(settings);

@@ -81,6 +81,7 @@ struct XpbdWorld::Shadow {
 struct XpbdWorld::System {
   int id = 0;
   std::shared_ptr<const xpbd::Model> model;
+  std::shared_ptr<xpbd::Model> own_model;  // set by the first set_material: then model == own_model
   xpbd::State state;
   SystemSettings settings;
   std::string error;                // set when a step failed; the system is no longer stepped

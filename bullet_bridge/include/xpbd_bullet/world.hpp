@@ -65,6 +65,7 @@
 #include <string>
 #include <vector>
 
+#include "xpbd/materials.hpp"
 #include "xpbd/model.hpp"
 #include "xpbd/profile.hpp"
 #include "xpbd/state.hpp"
@@ -207,6 +208,19 @@ class XpbdWorld : public btActionInterface {
   const SystemSettings& settings(int id) const;
   void set_settings(int id, const SystemSettings& settings);
 
+  // Changes the material (compliance, damping) of elements [first, first +
+  // count) of constraint type T of system `id`, e.g.
+  //   xw.set_material<xpbd::Distance>(id, 0, n, {1e-4, 0});
+  // (xpbd/materials.hpp). Checked here (xpbd::ConfigError naming the type,
+  // range and value; nothing changes), in effect from the next step; the
+  // system keeps its id, state and attachments. On the first change the
+  // system gets its own copy of the model, so other systems and the
+  // application's model (add_system's argument) keep the old material.
+  template <class T>
+  void set_material(int id, std::size_t first, std::size_t count, const xpbd::Material& mat) {
+    xpbd::set_material<T>(own_model(id), first, count, mat);
+  }
+
   const StepStats& last_stats() const { return stats_; }
 
   // One internal step of XPBD before Bullet's solver: the systems' steps and
@@ -242,6 +256,8 @@ class XpbdWorld : public btActionInterface {
   void install_hook();
   System& system(int id);
   const System& system(int id) const;
+  // The system's model, copied on first use so that it is the system's own.
+  xpbd::Model& own_model(int id);
   // Steps every system that has not failed (shadows_ filled, stats_ reset).
   void run_systems(btScalar dt);
   void step_system(System& s, btScalar dt);
