@@ -242,35 +242,36 @@ void solve_world_contacts(State& s) {
   // dropped flat then walks on the plane (1.7 mm/s, measured at 10 x 1).
   // The points are few and cheap, so they get kWorldContactPasses passes in
   // every sweep.
-  for (int pass = 0; pass < kWorldContactPasses; ++pass)
-  for (std::size_t k = 0; k < s.world_contacts.size(); ++k) {
-    const BodyWorldContact& c = s.world_contacts[k];
-    ContactLambda& l = s.world_contact_lambda[k];
-    RigidBody& b = s.bodies[static_cast<std::size_t>(c.body)];
-    const Vec3 rw = b.q * c.r;
-    const Real C = c.n.dot(b.x + rw - c.p) - s.world_contact_slack[k];
-    if (C >= Real(0) && l.normal == Real(0)) continue;
-    const Real wn = inv_mass_along(b, rw, c.n);
-    if (!(wn > Real(0))) continue;
-    const Real ln = std::max(l.normal - C / wn, Real(0));
-    const Real dl = ln - l.normal;
-    l.normal = ln;
-    apply_position_impulse(b, rw, dl * c.n);
-    // Static friction: undo the point's tangential motion over the substep
-    // while the tangential multiplier stays inside mu * lambda_n.
-    if (c.friction <= Real(0) || l.normal <= Real(0)) continue;
-    const Vec3 rw_now = b.q * c.r;
-    const Vec3 moved = (b.x + rw_now) - (b.x_prev + b.q_prev * c.r);
-    const Vec3 dt = moved - c.n.dot(moved) * c.n;
-    const Real len = dt.norm();
-    if (!(len > Real(0))) continue;
-    const Vec3 t = dt / len;
-    const Real wt = inv_mass_along(b, rw_now, t);
-    if (!(wt > Real(0))) continue;
-    const Real dlt = -len / wt;
-    if (std::abs(l.tangent + dlt) > c.friction * l.normal) continue;
-    l.tangent += dlt;
-    apply_position_impulse(b, rw_now, dlt * t);
+  for (int pass = 0; pass < kWorldContactPasses; ++pass) {
+    for (std::size_t k = 0; k < s.world_contacts.size(); ++k) {
+      const BodyWorldContact& c = s.world_contacts[k];
+      ContactLambda& l = s.world_contact_lambda[k];
+      RigidBody& b = s.bodies[static_cast<std::size_t>(c.body)];
+      const Vec3 rw = b.q * c.r;
+      const Real C = c.n.dot(b.x + rw - c.p) - s.world_contact_slack[k];
+      if (C >= Real(0) && l.normal == Real(0)) continue;
+      const Real wn = inv_mass_along(b, rw, c.n);
+      if (!(wn > Real(0))) continue;
+      const Real ln = std::max(l.normal - C / wn, Real(0));
+      const Real dl = ln - l.normal;
+      l.normal = ln;
+      apply_position_impulse(b, rw, dl * c.n);
+      // Static friction: undo the point's tangential motion over the substep
+      // while the tangential multiplier stays inside mu * lambda_n.
+      if (c.friction <= Real(0) || l.normal <= Real(0)) continue;
+      const Vec3 rw_now = b.q * c.r;
+      const Vec3 moved = (b.x + rw_now) - (b.x_prev + b.q_prev * c.r);
+      const Vec3 dt = moved - c.n.dot(moved) * c.n;
+      const Real len = dt.norm();
+      if (!(len > Real(0))) continue;
+      const Vec3 t = dt / len;
+      const Real wt = inv_mass_along(b, rw_now, t);
+      if (!(wt > Real(0))) continue;
+      const Real dlt = -len / wt;
+      if (std::abs(l.tangent + dlt) > c.friction * l.normal) continue;
+      l.tangent += dlt;
+      apply_position_impulse(b, rw_now, dlt * t);
+    }
   }
 }
 
