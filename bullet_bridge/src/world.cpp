@@ -81,7 +81,8 @@ XpbdWorld* find_registered(const btDynamicsWorld* w) {
 // displacement into the other body, (dx + dtheta x r) . n < 0, is removed
 // with the body's generalized inverse mass (a few Gauss-Seidel passes, so
 // that a box on several corners settles on all of them). Only what pushes
-// inward is removed; the support itself does not move. Returns whether
+// inward beyond the point's gap at the body's current pose is removed; the
+// support itself does not move. Returns whether
 // anything was removed.
 bool clip_to_contacts(btVector3& dx, btVector3& dtheta, const btRigidBody* rb, btCollisionWorld* cw) {
   if (!cw || (dx.isZero() && dtheta.isZero())) return false;
@@ -100,7 +101,8 @@ bool clip_to_contacts(btVector3& dx, btVector3& dtheta, const btRigidBody* rb, b
       // a coupled tray) moves with the push, and the prediction of Bullet's
       // contact load already carries it (clipping there made the stack test's
       // gaps 0.1 mm larger).
-      if (!(is_a ? pm->getBody1() : pm->getBody0())->isStaticOrKinematicObject()) continue;
+      const btCollisionObject* other = is_a ? pm->getBody1() : pm->getBody0();
+      if (!other->isStaticOrKinematicObject()) continue;
       for (int k = 0; k < pm->getNumContacts(); ++k) {
         const btManifoldPoint& pt = pm->getContactPoint(k);
         if (pt.getDistance() > pm->getContactProcessingThreshold()) continue;
@@ -108,7 +110,12 @@ bool clip_to_contacts(btVector3& dx, btVector3& dtheta, const btRigidBody* rb, b
         // support for body 0.
         const btVector3 n = is_a ? pt.m_normalWorldOnB : -pt.m_normalWorldOnB;
         const btVector3 r = (is_a ? pt.getPositionWorldOnA() : pt.getPositionWorldOnB()) - com;
-        const btScalar into = (dx + dtheta.cross(r)).dot(n);
+        // The gap at the body's pose now (after Bullet's integration) may
+        // be closed: only a displacement beyond it is into the support.
+        const btVector3 self = rb->getWorldTransform() * (is_a ? pt.m_localPointA : pt.m_localPointB);
+        const btVector3 support = other->getWorldTransform() * (is_a ? pt.m_localPointB : pt.m_localPointA);
+        const btScalar gap = btMax((self - support).dot(n), btScalar(0));
+        const btScalar into = (dx + dtheta.cross(r)).dot(n) + gap;
         if (into >= 0) continue;
         const btVector3 rn = r.cross(n);
         const btVector3 i_rn = rb->getAngularFactor() * (inv_i * rn);
@@ -123,6 +130,35 @@ bool clip_to_contacts(btVector3& dx, btVector3& dtheta, const btRigidBody* rb, b
     if (!changed) break;
   }
   return clipped;
+}
+
+// Removes from (dv, dw) the velocity change that Bullet's solver gave rb
+// through its contacts with static bodies in this step (the normal and both
+// friction impulses of every manifold point). Kinematic bodies are not
+// static: XPBD does not solve those contacts.
+void remove_static_contact_impulses(const btRigidBody* rb, btCollisionWorld* cw, btVector3& dv, btVector3& dw) {
+  if (!cw) return;
+  btDispatcher* disp = cw->getDispatcher();
+  const btVector3 com = rb->getCenterOfMassPosition();
+  for (int m = 0; m < disp->getNumManifolds(); ++m) {
+    const btPersistentManifold* pm = disp->getManifoldByIndexInternal(m);
+    const bool is_a = pm->getBody0() == rb, is_b = pm->getBody1() == rb;
+    if (!is_a && !is_b) continue;
+    const btCollisionObject* other = is_a ? pm->getBody1() : pm->getBody0();
+    if (!other->isStaticObject() || other->isKinematicObject()) continue;
+    for (int k = 0; k < pm->getNumContacts(); ++k) {
+      const btManifoldPoint& pt = pm->getContactPoint(k);
+      // Bullet's solver pushes body 0 along +normalWorldOnB and the
+      // friction directions, body 1 the other way.
+      btVector3 j = pt.m_normalWorldOnB * pt.m_appliedImpulse +
+                    pt.m_lateralFrictionDir1 * pt.m_appliedImpulseLateral1 +
+                    pt.m_lateralFrictionDir2 * pt.m_appliedImpulseLateral2;
+      if (!is_a) j = -j;
+      const btVector3 r = (is_a ? pt.getPositionWorldOnA() : pt.getPositionWorldOnB()) - com;
+      dv -= rb->getLinearFactor() * j * rb->getInvMass();
+      dw -= rb->getAngularFactor() * (rb->getInvInertiaTensorWorld() * r.cross(j));
+    }
+  }
 }
 
 // The rotation dq with its rotation vector scaled axis by axis (Bullet's
@@ -340,6 +376,7 @@ void XpbdWorld::hand_over(btScalar dt, bool late) {
     r.v_pre = keep_v * u + kick_v;
     r.w_pre = keep_w * uw + kick_w;
     r.spread = dt * btScalar(sh.substeps - 1) / btScalar(2 * sh.substeps);
+    r.world_contacts = sh.world_contacts;
     residuals_.push_back(r);
   }
   if (timing) {
@@ -383,8 +420,10 @@ void XpbdWorld::updateAction(btCollisionWorld* cw, btScalar dt) {
       t.setRotation((dq * t.getRotation()).normalized());
       rb->setCenterOfMassTransform(t);
     }
-    predicted_.push_back(Predicted{rb, to_vec((rb->getLinearVelocity() - r.v_pre) / dt),
-                                   to_vec((rb->getAngularVelocity() - r.w_pre) / dt)});
+    btVector3 dv = rb->getLinearVelocity() - r.v_pre;
+    btVector3 dw = rb->getAngularVelocity() - r.w_pre;
+    if (r.world_contacts) remove_static_contact_impulses(rb, cw, dv, dw);
+    predicted_.push_back(Predicted{rb, to_vec(dv / dt), to_vec(dw / dt)});
   }
   residuals_.clear();
   pre_solved_ = false;

@@ -199,7 +199,7 @@ void XpbdWorld::add_world_contacts(System& s, btScalar dt) {
   btDispatcher* const d = world_.getDispatcher();
   const int nm = d->getNumManifolds();
   for (std::size_t i = 0; i < st.bodies.size(); ++i) {
-    const Shadow& sh = shadows_[static_cast<std::size_t>(s.shadow_of_body[i])];
+    Shadow& sh = shadows_[static_cast<std::size_t>(s.shadow_of_body[i])];
     const btRigidBody* rb = sh.dynamic;
     if (rb == nullptr || !rb->hasContactResponse()) continue;
     // The body's vertices (box corners, hull vertices), body frame: a box
@@ -227,6 +227,7 @@ void XpbdWorld::add_world_contacts(System& s, btScalar dt) {
         c.n = n;
         c.friction = std::max(Real(rb->getFriction() * other->getFriction()), Real(0));
         st.world_contacts.push_back(c);
+        sh.world_contacts = true;
       };
       // Bullet's manifold points (the only ones for smooth shapes)...
       for (int j = 0; j < pm->getNumContacts(); ++j) {

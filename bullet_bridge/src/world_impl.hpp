@@ -72,6 +72,10 @@ struct XpbdWorld::Shadow {
   xpbd::RigidBody initial;  // the xpbd shadow at the start of the step
   // Filled by the systems that step it (dynamic bodies only):
   bool coupled = false;     // some system has it in State::bodies
+  // Some system solved its contacts with static bodies inside the substeps
+  // (State::world_contacts): Bullet's impulses on those contacts are then
+  // left out of the next step's prediction (XpbdWorld::Predicted).
+  bool world_contacts = false;
   xpbd::RigidBody free;     // the first such system's contact-free end state
   int substeps = 1;         // that system's substeps per step
   Vec3 dv = Vec3::Zero(), dw = Vec3::Zero(), dx = Vec3::Zero();  // summed changes
@@ -119,10 +123,17 @@ struct XpbdWorld::Residual {
   btVector3 v_end, w_end;   // m/s, rad/s, the shadow's end velocities
   btVector3 v_pre, w_pre;   // velocities Bullet reaches before its contacts: keep u + kick
   btScalar spread = 0;      // s, dt (n-1)/(2n)
+  bool world_contacts = false;  // Shadow::world_contacts
 };
 
 // Bullet's contact and joint acceleration on a coupled body in the last
 // step, (v_bullet - v_pre)/dt: fed to the body's shadow in the next step.
+// Where XPBD solved the body's contacts with static bodies itself
+// (Shadow::world_contacts), the impulses Bullet's solver put on those
+// contacts are taken out: the support is then counted once, by XPBD's
+// contacts, instead of also lifting the shadow's weight through accel (a
+// shadow that carries the predicted support of the ground feels no gravity
+// inside XPBD, and anything that pushes it up lifts it).
 struct XpbdWorld::Predicted {
   const btRigidBody* body = nullptr;
   Vec3 accel = Vec3::Zero(), ang_accel = Vec3::Zero();

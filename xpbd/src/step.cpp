@@ -229,6 +229,11 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
       timed(t, stage::triangle_contacts, !s.triangle_contacts.empty(),
             [&] { rigid::solve_triangle_contacts(m, s); });
     }
+    // The bodies' contacts with the static world once more: the particle
+    // contacts above may have pushed a body into it, and an overlap a body
+    // ends the step with is taken as the next step's starting overlap
+    // (world_contact_slack), which XPBD then never removes.
+    timed(t, stage::body_contacts, !s.world_contacts.empty(), [&] { rigid::solve_world_contacts(s); });
     // 4. Velocities from the position change.
     timed(t, stage::velocity_update, true, [&] {
       update_velocities(m, s, cfg, h);
