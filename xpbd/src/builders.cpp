@@ -291,6 +291,7 @@ ClothGrid add_cloth_grid(SceneDesc& s, const ClothGridDesc& d) {
   }
   if (d.collision_triangles)
     s.collision_triangles.insert(s.collision_triangles.end(), g.triangles.begin(), g.triangles.end());
+  s.surface_triangles.insert(s.surface_triangles.end(), g.triangles.begin(), g.triangles.end());
   return g;
 }
 
@@ -449,6 +450,7 @@ TetBox add_tet_box(SceneDesc& s, const TetBoxDesc& d) {
     if (j - i == 1) b.surface.push_back(faces[i].tri);
     i = j;
   }
+  s.surface_triangles.insert(s.surface_triangles.end(), b.surface.begin(), b.surface.end());
   return b;
 }
 
@@ -552,6 +554,7 @@ MeshResult add_triangle_mesh(SceneDesc& s, const TriangleMesh& mesh, const Trian
   }
   if (d.kind == MeshKind::closed_surface)
     s.global_volumes.push_back(GlobalVolumeDesc{r.triangles, d.pressure, d.volume_mat});
+  s.surface_triangles.insert(s.surface_triangles.end(), r.triangles.begin(), r.triangles.end());
   return r;
 }
 

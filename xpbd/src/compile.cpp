@@ -425,17 +425,22 @@ Model compile(const SceneDesc& s) {
     m.pin_target0.push_back(target);
   }
 
-  // Collision triangles (rigid features against the soft surface).
-  for (std::size_t k = 0; k < s.collision_triangles.size(); ++k) {
-    const auto& t = s.collision_triangles[k];
-    const std::string w = at("collision_triangles", k);
-    static const char* names[3] = {"0", "1", "2"};
-    for (int i = 0; i < 3; ++i) check_index(w, names[i], t[i], n);
-    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2])
-      fail(w, "indices", "duplicate particle in (" + std::to_string(t[0]) + ", " +
-                              std::to_string(t[1]) + ", " + std::to_string(t[2]) + ")");
+  // Collision triangles (rigid features against the soft surface) and the
+  // visible surface (rendering, ray queries).
+  for (const char* field : {"collision_triangles", "surface_triangles"}) {
+    const auto& tris = std::string(field) == "collision_triangles" ? s.collision_triangles : s.surface_triangles;
+    for (std::size_t k = 0; k < tris.size(); ++k) {
+      const auto& t = tris[k];
+      const std::string w = at(field, k);
+      static const char* names[3] = {"0", "1", "2"};
+      for (int i = 0; i < 3; ++i) check_index(w, names[i], t[i], n);
+      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2])
+        fail(w, "indices", "duplicate particle in (" + std::to_string(t[0]) + ", " +
+                                std::to_string(t[1]) + ", " + std::to_string(t[2]) + ")");
+    }
   }
   m.collision_triangles = s.collision_triangles;
+  m.surface_triangles = s.surface_triangles;
 
   compile_penetrations(s, m);
   compile_bending(s, m);

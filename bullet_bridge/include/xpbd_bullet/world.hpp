@@ -62,12 +62,14 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "xpbd/materials.hpp"
 #include "xpbd/model.hpp"
 #include "xpbd/profile.hpp"
+#include "xpbd/raycast.hpp"
 #include "xpbd/state.hpp"
 #include "xpbd/step.hpp"
 
@@ -222,6 +224,21 @@ class XpbdWorld : public btActionInterface {
   }
 
   const StepStats& last_stats() const { return stats_; }
+
+  // Ray queries against the systems' visible surfaces (xpbd/raycast.hpp:
+  // Model::surface_triangles, both sides), as Bullet's rayTest: the segment
+  // from -> to, hits at a fraction of the way in [0, 1]. Systems whose step
+  // failed are not tested. Bullet's bodies are not tested either: call the
+  // world's rayTest and keep the nearer of the two fractions. Throws
+  // xpbd::ConfigError if from or to is not finite.
+  struct RayHit {
+    int system = -1;  // the system's id
+    xpbd::RayHit hit;  // triangle, particles, barycentric weights, fraction, distance, point, normal
+  };
+  // The nearest hit over every system (equal fractions: lower system id).
+  std::optional<RayHit> ray_test_closest(const btVector3& from, const btVector3& to) const;
+  // Every hit, nearest first.
+  std::vector<RayHit> ray_test_all(const btVector3& from, const btVector3& to) const;
 
   // One internal step of XPBD before Bullet's solver: the systems' steps and
   // the hand-over of velocities (see the top of this file). The pre-tick hook

@@ -114,6 +114,9 @@ struct ClothGridDesc {
   ClothGridDesc& set_bending(ClothBending b, const Material& m);
 };
 
+// add_cloth_grid, add_tet_box and add_triangle_mesh also append their
+// visible surface (the triangulation, the boundary faces, the mesh's
+// triangles) to SceneDesc::surface_triangles.
 struct ClothGrid {
   Index first = 0;  // index of particle (0, 0)
   int nx = 0, ny = 0;

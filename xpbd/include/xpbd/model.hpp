@@ -35,6 +35,9 @@ struct Model {
   std::vector<Plane> planes;   // static planes referenced by Wall elements
   // Triangles rigid features collide with (SceneDesc::collision_triangles).
   std::vector<std::array<Index, 3>> collision_triangles;
+  // The visible surface (SceneDesc::surface_triangles): rendering and ray
+  // queries only.
+  std::vector<std::array<Index, 3>> surface_triangles;
   std::vector<Vec3> pin_target0;  // m, initial pin targets, one per Pin
 
   ConstraintArrays constraints;   // one flat array per constraint type

@@ -127,6 +127,11 @@ struct SceneDesc {
   // vertices) collide with in the Bullet bridge (particle indices, any
   // winding). Empty = no triangle collision and no cost.
   std::vector<std::array<Index, 3>> collision_triangles;
+  // The visible surface (particle indices, any winding): what a renderer
+  // draws and what ray queries hit (xpbd/raycast.hpp). The builders fill it
+  // (a cloth grid's triangulation, a tet box's boundary faces, a triangle
+  // mesh's triangles); a rope has none. Never read by the solver.
+  std::vector<std::array<Index, 3>> surface_triangles;
 
   // Appends a particle and returns its index. Fills velocities/radii only if
   // the caller asks for non-default values or they are already in use.

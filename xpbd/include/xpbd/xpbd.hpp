@@ -7,6 +7,7 @@
 #include "xpbd/error.hpp"
 #include "xpbd/materials.hpp"
 #include "xpbd/model.hpp"
+#include "xpbd/raycast.hpp"
 #include "xpbd/scene.hpp"
 #include "xpbd/state.hpp"
 #include "xpbd/rigid.hpp"
