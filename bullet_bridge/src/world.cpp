@@ -9,6 +9,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "world_impl.hpp"
 #include "xpbd/error.hpp"
@@ -291,6 +292,30 @@ void XpbdWorld::remove_attachment(int attachment_id) {
 
 const std::string& XpbdWorld::error(int id) const { return system(id).error; }
 
+const std::vector<BodyContactReport>& XpbdWorld::contact_report(int id) const { return system(id).report; }
+
+void XpbdWorld::set_step_callback(int id, StepCallback callback) { system(id).callback = std::move(callback); }
+
+void XpbdWorld::run_callbacks(btScalar dt) {
+  // By id, from a copy: a callback may add or remove systems.
+  callback_ids_.clear();
+  for (const auto& s : systems_)
+    if (s->callback && s->error.empty()) callback_ids_.push_back(s->id);
+  for (const int id : callback_ids_) {
+    if (!has_system(id)) continue;
+    System& s = system(id);
+    if (!s.callback || !s.error.empty()) continue;
+    const StepCallback cb = s.callback;  // the callback may replace itself
+    try {
+      cb(id, dt);
+    } catch (const std::exception& e) {
+      if (has_system(id)) system(id).error = std::string("step callback: ") + e.what();
+    } catch (...) {
+      if (has_system(id)) system(id).error = "step callback: an exception that is not a std::exception";
+    }
+  }
+}
+
 // ---------------------------------------------------------------------------
 
 void XpbdWorld::pre_solve(btScalar dt) {
@@ -316,6 +341,7 @@ void XpbdWorld::run_systems(btScalar dt) {
     } catch (const std::exception& e) {
       // Nothing may leave stepSimulation: the system stops here, with its reason.
       s->error = std::string("step at t = ") + xpbd::format_value(double(s->state.time)) + " s: " + e.what();
+      s->report.clear();
       ++stats_.failed;
     }
   }
@@ -427,6 +453,7 @@ void XpbdWorld::updateAction(btCollisionWorld* cw, btScalar dt) {
   }
   residuals_.clear();
   pre_solved_ = false;
+  run_callbacks(dt);
 }
 
 }  // namespace xpbd_bullet

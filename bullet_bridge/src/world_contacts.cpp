@@ -263,6 +263,7 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
       throw xpbd::ConfigError("state: particle " + std::to_string(i) +
                               " has a position or velocity that is not finite (diverged?)");
 
+  s.report.clear();
   st.bodies.clear();
   st.contacts.clear();
   st.attachments.clear();
@@ -441,6 +442,14 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
   });
 
   xpbd::step(m, st, cfg);
+
+  // The contact report: every body the particles pushed, with the impulse.
+  s.report.clear();
+  for (std::size_t i = 0; i < st.bodies.size() && i < st.body_contact_impulse.size(); ++i) {
+    const Vec3& j = st.body_contact_impulse[i];
+    if (j == Vec3::Zero()) continue;
+    s.report.push_back(BodyContactReport{shadows_[s.shadow_of_body[i]].obj, to_bt(j)});
+  }
 
   // This system's share of the body velocity and position changes.
   xpbd::timed(times, SystemTimes::coupling, !st.bodies.empty(), [&] {

@@ -92,6 +92,8 @@ struct XpbdWorld::System {
   std::vector<int> shadow_of_body;  // per State::bodies entry: index into shadows_
   std::vector<xpbd::RigidBody> free_bodies;  // scratch: bodies moved without contacts
   detail::ContactScratch contact;            // scratch of the contact search
+  std::vector<BodyContactReport> report;     // contact_report(id): the last step's
+  StepCallback callback;                     // set_step_callback(id)
 };
 
 struct XpbdWorld::Attachment {

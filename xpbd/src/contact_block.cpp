@@ -145,6 +145,7 @@ bool solve_contact_group(const Model& m, State& s, std::size_t head, Real inv_h2
     l.normal = ln;
     dxp += d * rows[i].f.n;
     apply_position_impulse(*rows[i].body, rows[i].f.rw, -d * rows[i].f.n);
+    record_push(s, s.contacts[rows[i].k].body, -d * rows[i].f.n);
   }
   s.x[p] += wp * dxp;
   return true;

@@ -24,6 +24,16 @@ inline void apply_velocity_impulse(RigidBody& b, const Vec3& rw, const Vec3& j) 
   b.w += apply_inv_inertia(b, rw.cross(j));
 }
 
+// Records a particle contact's position impulse p (kg*m) or velocity
+// impulse j (N*s) on body `body` for State::body_contact_impulse (nothing
+// for the static world, body < 0).
+inline void record_push(State& s, Index body, const Vec3& p) {
+  if (body >= 0) s.body_contact_push[static_cast<std::size_t>(body)] += p;
+}
+inline void record_impulse(State& s, Index body, const Vec3& j) {
+  if (body >= 0) s.body_contact_impulse[static_cast<std::size_t>(body)] += j;
+}
+
 // A body index < 0 stands for the static world: this body never moves.
 inline RigidBody& body_or_world(State& s, Index b) {
   static thread_local RigidBody world;  // inv_mass 0, at the origin, at rest

@@ -69,6 +69,8 @@ void begin_step(const Model& m, State& s) {
                         "]: r, p, n and friction must be finite, n of unit length, friction >= 0");
   }
   s.world_contact_lambda.resize(s.world_contacts.size());
+  s.body_contact_impulse.assign(s.bodies.size(), Vec3::Zero());
+  s.body_contact_push.assign(s.bodies.size(), Vec3::Zero());
   // An overlap with the static world that the step starts with is left to
   // the host (Bullet's own position correction): projected inside a
   // substep it would become a velocity of overlap / h. The contact only
@@ -78,6 +80,14 @@ void begin_step(const Model& m, State& s) {
     const BodyWorldContact& c = s.world_contacts[k];
     const RigidBody& b = s.bodies[static_cast<std::size_t>(c.body)];
     s.world_contact_slack[k] = std::min(c.n.dot(b.x + b.q * c.r - c.p), Real(0));
+  }
+}
+
+void collect_contact_impulses(State& s, Real h) {
+  const Real inv_h = Real(1) / h;
+  for (std::size_t k = 0; k < s.body_contact_push.size(); ++k) {
+    s.body_contact_impulse[k] += inv_h * s.body_contact_push[k];
+    s.body_contact_push[k] = Vec3::Zero();
   }
 }
 
@@ -155,6 +165,7 @@ void solve_contact_normal(const Model& m, State& s, std::size_t k, Real inv_h2) 
   l.normal = ln;
   s.x[p] += (wp * dl) * f.n;
   apply_position_impulse(b, f.rw, -dl * f.n);
+  record_push(s, c.body, -dl * f.n);
 }
 
 // Static friction of contact k (position level, Mueller et al. 2020 sec.
@@ -183,6 +194,7 @@ void solve_contact_friction(const Model& m, State& s, std::size_t k) {
   l.tangent += dlt;
   s.x[p] += (wp * dlt) * t;
   apply_position_impulse(b, f.rw, -dlt * t);
+  record_push(s, c.body, -dlt * t);
 }
 
 }  // namespace
@@ -229,6 +241,7 @@ void solve_triangle_contacts(const Model& m, State& s) {
     lambda = l;
     for (int i = 0; i < 3; ++i) s.x[c.tri[i]] += (m.inv_mass[c.tri[i]] * dl) * g[i + 1];
     apply_position_impulse(b, rw, dl * g[0]);
+    record_push(s, c.body, dl * g[0]);
   }
 }
 
@@ -357,6 +370,7 @@ void contact_velocities(const Model& m, State& s, Real h, Real gravity_norm) {
         const Real jt = std::min(c.dynamic_friction * l.normal * inv_h, vt_len / wt);
         s.v[p] -= (wp * jt) * t;
         apply_velocity_impulse(b, f.rw, jt * t);
+        record_impulse(s, c.body, jt * t);
       }
     }
 
@@ -370,6 +384,7 @@ void contact_velocities(const Model& m, State& s, Real h, Real gravity_norm) {
         const Real jn = (target - f.n.dot(vr)) / wn;
         s.v[p] += (wp * jn) * f.n;
         apply_velocity_impulse(b, f.rw, -jn * f.n);
+        record_impulse(s, c.body, -jn * f.n);
       }
     }
   }

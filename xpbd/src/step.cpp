@@ -234,6 +234,7 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
     // ends the step with is taken as the next step's starting overlap
     // (world_contact_slack), which XPBD then never removes.
     timed(t, stage::body_contacts, !s.world_contacts.empty(), [&] { rigid::solve_world_contacts(s); });
+    rigid::collect_contact_impulses(s, h);
     // 4. Velocities from the position change.
     timed(t, stage::velocity_update, true, [&] {
       update_velocities(m, s, cfg, h);

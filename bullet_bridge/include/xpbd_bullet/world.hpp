@@ -61,6 +61,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -169,8 +170,27 @@ struct StepStats {
   int skipped_bodies = 0;  // bodies left out because their pose or velocity is not finite, summed over systems
 };
 
+// One body that a system's particles touched in the last internal step
+// (XpbdWorld::contact_report).
+struct BodyContactReport {
+  const btCollisionObject* body = nullptr;
+  // N*s, world: the total impulse the particles' contacts (normal push,
+  // friction, restitution) applied to the body over the step, on the body
+  // (the particles got the opposite). Divide by the step for the mean force.
+  // Attachments are not contacts and are not counted.
+  btVector3 impulse{0, 0, 0};
+};
+
 class XpbdWorld : public btActionInterface {
  public:
+  // Called after each internal step in which the system stepped (at the end
+  // of Bullet's internal step, after the residuals: states and bodies agree),
+  // with the system's id and the step (s). It may read the system, change
+  // settings, pins and materials, or remove systems and attachments. An
+  // exception from it stops that system (error(id) starts with "step
+  // callback: ") and is not thrown out of stepSimulation.
+  using StepCallback = std::function<void(int id, btScalar dt)>;
+
   // Installs the pre-tick hook (chained) and adds itself to `world` as an
   // action; both are removed in the destructor. The world must outlive this
   // object. Throws xpbd::ConfigError if `world` already has an XpbdWorld.
@@ -225,6 +245,14 @@ class XpbdWorld : public btActionInterface {
 
   const StepStats& last_stats() const { return stats_; }
 
+  // The bodies system `id`'s particles touched in its last step, each with
+  // the impulse they applied to it (BodyContactReport); empty before the
+  // first step and after a failed one. Read it between steps or from the
+  // step callback.
+  const std::vector<BodyContactReport>& contact_report(int id) const;
+  // Sets (or, with an empty function, removes) system `id`'s step callback.
+  void set_step_callback(int id, StepCallback callback);
+
   // Ray queries against the systems' visible surfaces (xpbd/raycast.hpp:
   // Model::surface_triangles, both sides), as Bullet's rayTest: the segment
   // from -> to, hits at a fraction of the way in [0, 1]. Systems whose step
@@ -271,6 +299,7 @@ class XpbdWorld : public btActionInterface {
   static void pre_tick(btDynamicsWorld* world, btScalar dt);  // the hook
   bool hook_installed() const;
   void install_hook();
+  void run_callbacks(btScalar dt);  // the systems' step callbacks (updateAction)
   System& system(int id);
   const System& system(int id) const;
   // The system's model, copied on first use so that it is the system's own.
@@ -302,6 +331,7 @@ class XpbdWorld : public btActionInterface {
   bool pre_solved_ = false;  // pre_solve ran in the current internal step
   std::vector<Residual> residuals_;  // applied by the next updateAction
   std::vector<Predicted> predicted_;  // Bullet's contact accelerations of the last step
+  std::vector<int> callback_ids_;  // scratch: systems with a step callback
   // Scratch, reused across steps.
   std::vector<const btCollisionObject*> candidates_;
   std::vector<Shadow> shadows_;  // bodies touched in the current internal step

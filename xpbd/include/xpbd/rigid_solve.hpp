@@ -38,6 +38,10 @@ void world_contact_velocities(State& s, Real h);
 // contact holds, 1 when a particle centre is on the body's surface).
 Real worst_contact_violation(const Model& m, const State& s);
 
+// Adds the substep's position impulses of the particle contacts over h to
+// State::body_contact_impulse (after the solve, before the velocity stage).
+void collect_contact_impulses(State& s, Real h);
+
 // v = (x - x_prev)/h and w from the quaternion change.
 void update_body_velocities(std::vector<RigidBody>& bodies, Real h);
 

@@ -60,6 +60,12 @@ struct State {
   std::vector<BodyWorldContact> world_contacts;  // bodies against the static world
   std::vector<ContactLambda> world_contact_lambda;  // parallel (sized by step())
   std::vector<Real> world_contact_slack;  // m, <= 0: the overlap each starts the step with (step())
+  // N*s, world, parallel to bodies: the impulse the particles' contacts
+  // (contacts and triangle_contacts: normal, friction, restitution) gave
+  // each body over the last step, static bodies included. Attachments and
+  // world contacts are not counted. Written by step().
+  std::vector<Vec3> body_contact_impulse;
+  std::vector<Vec3> body_contact_push;  // kg*m, scratch: the current substep's position impulses
 
   // Particle-particle collision (spatial_hash.hpp): hash and the pairs found
   // at the start of the current step. Empty when the model has it off.
