@@ -209,13 +209,17 @@ void check_interrupted(int sig) {
           "--out", (dir / "run").c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
-  // Wait until it has written a few frames, then stop it mid-run.
+  // Wait until it has written a few frames under their final names (not
+  // counting a temporary file being written), then stop it mid-run.
   const fs::path frames = dir / "run" / "frames";
-  for (int k = 0; k < 2000; ++k) {
+  for (int k = 0; k < 6000; ++k) {
     std::error_code ec;
     int n = 0;
     if (fs::exists(frames, ec))
-      for (auto it = fs::directory_iterator(frames, ec); it != fs::directory_iterator(); ++it) ++n;
+      for (auto it = fs::directory_iterator(frames, ec); it != fs::directory_iterator(); ++it) {
+        const std::string name = it->path().filename().string();
+        n += name.starts_with("frame_") && name.ends_with(".obj");
+      }
     if (n >= 20) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
