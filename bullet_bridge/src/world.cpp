@@ -42,6 +42,10 @@ void check_settings(const SystemSettings& s) {
   if (!(c.feature_spacing > Real(0)) || !std::isfinite(c.feature_spacing))
     bad("contacts.feature_spacing", "must be finite and > 0, got " + xpbd::format_value(double(c.feature_spacing)));
   if (c.restitution > Real(1)) bad("contacts.restitution", "must be <= 1, got " + xpbd::format_value(double(c.restitution)));
+  if (!(s.sleep_speed >= Real(0)) || !std::isfinite(s.sleep_speed))
+    bad("sleep_speed", "must be finite and >= 0, got " + xpbd::format_value(double(s.sleep_speed)));
+  if (!(s.sleep_time > Real(0)) || !std::isfinite(s.sleep_time))
+    bad("sleep_time", "must be finite and > 0, got " + xpbd::format_value(double(s.sleep_time)));
 }
 
 // Bullet has no getter for the pre-tick callback; it is a protected member
@@ -263,12 +267,17 @@ xpbd::Model& XpbdWorld::own_model(int id) {
     s.own_model = std::make_shared<xpbd::Model>(*s.model);
     s.model = s.own_model;
   }
+  // A material is about to change: the system must step again.
+  s.asleep = false;
+  s.quiet = 0;
   return *s.own_model;
 }
 void XpbdWorld::set_settings(int id, const SystemSettings& settings) {
   System& s = system(id);
   check_settings(settings);
   s.settings = settings;
+  s.asleep = false;
+  s.quiet = 0;
 }
 
 int XpbdWorld::attach(int id, Index particle, btRigidBody* body, const btVector3& local,
@@ -300,7 +309,7 @@ void XpbdWorld::run_callbacks(btScalar dt) {
   // By id, from a copy: a callback may add or remove systems.
   callback_ids_.clear();
   for (const auto& s : systems_)
-    if (s->callback && s->error.empty()) callback_ids_.push_back(s->id);
+    if (s->callback && s->error.empty() && s->stepped) callback_ids_.push_back(s->id);
   for (const int id : callback_ids_) {
     if (!has_system(id)) continue;
     System& s = system(id);
@@ -335,9 +344,20 @@ void XpbdWorld::run_systems(btScalar dt) {
   });
   if (collides) world_.updateAabbs();
   for (auto& s : systems_) {
+    s->stepped = false;
     if (!s->error.empty()) continue;
+    if (s->asleep) {
+      if (!must_wake(*s, dt)) {
+        ++stats_.sleeping;
+        continue;
+      }
+      s->asleep = false;
+      s->quiet = 0;
+    }
     try {
       step_system(*s, dt);
+      s->stepped = true;
+      update_sleep(*s, dt);
     } catch (const std::exception& e) {
       // Nothing may leave stepSimulation: the system stops here, with its reason.
       s->error = std::string("step at t = ") + xpbd::format_value(double(s->state.time)) + " s: " + e.what();

@@ -94,6 +94,12 @@ struct XpbdWorld::System {
   detail::ContactScratch contact;            // scratch of the contact search
   std::vector<BodyContactReport> report;     // contact_report(id): the last step's
   StepCallback callback;                     // set_step_callback(id)
+  bool stepped = false;                      // stepped in the current internal step
+  // Sleeping (SystemSettings::sleep_speed, world_sleep.cpp).
+  bool asleep = false;
+  Real quiet = 0;                            // s, time every particle has been slower than sleep_speed
+  Vec3 box_lo = Vec3::Zero(), box_hi = Vec3::Zero();  // m, the box that wakes it (set when it falls asleep)
+  std::vector<Vec3> pins_asleep;             // State::pin_target when it fell asleep
 };
 
 struct XpbdWorld::Attachment {

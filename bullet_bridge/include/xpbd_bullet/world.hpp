@@ -147,6 +147,19 @@ struct SystemSettings {
   // are solved inside the XPBD substeps too (xpbd::BodyWorldContact), so a
   // cloth pressing a box onto the ground does not push it into it.
   bool coupled_static_contacts = true;
+  // Sleeping (off by default: sleep_speed = 0). A system falls asleep once
+  // every particle has moved slower than sleep_speed (m/s, >= 0) for
+  // sleep_time (s, > 0) without a break, while no dynamic body it touches
+  // is awake in Bullet and no awake non-static body is near it. Asleep, it
+  // is not stepped (its velocities are zero and its state does not change)
+  // and it does not keep the bodies it touches awake. It wakes when an awake
+  // non-static body's box, grown by what it can travel in one step, reaches
+  // the system's box (its particles' box grown by the contact margin and
+  // thickness), when one of its pins is moved (State::pin_target), when its
+  // settings or materials are changed, and on XpbdWorld::wake. Moving its
+  // particles yourself does not wake it: call wake.
+  xpbd::Real sleep_speed = 0;
+  xpbd::Real sleep_time = 1;
   ContactSettings contacts;
   // Opt-in timing: when set, every step of the system adds its stage times
   // to *times (which must outlive the system or be reset to nullptr).
@@ -168,6 +181,7 @@ struct StepStats {
   int late = 0;        // 1 if this step ran from updateAction because the pre-tick hook had been replaced
   int failed = 0;      // systems whose step failed in this step (error(id) says why)
   int skipped_bodies = 0;  // bodies left out because their pose or velocity is not finite, summed over systems
+  int sleeping = 0;        // systems asleep in this step (not stepped)
 };
 
 // One body that a system's particles touched in the last internal step
@@ -253,6 +267,12 @@ class XpbdWorld : public btActionInterface {
   // Sets (or, with an empty function, removes) system `id`'s step callback.
   void set_step_callback(int id, StepCallback callback);
 
+  // Sleeping (SystemSettings::sleep_speed): whether system `id` is asleep,
+  // and a request to wake it (it then steps from the next internal step and
+  // needs sleep_time of quiet again before it can sleep).
+  bool sleeping(int id) const;
+  void wake(int id);
+
   // Ray queries against the systems' visible surfaces (xpbd/raycast.hpp:
   // Model::surface_triangles, both sides), as Bullet's rayTest: the segment
   // from -> to, hits at a fraction of the way in [0, 1]. Systems whose step
@@ -300,6 +320,12 @@ class XpbdWorld : public btActionInterface {
   bool hook_installed() const;
   void install_hook();
   void run_callbacks(btScalar dt);  // the systems' step callbacks (updateAction)
+  // Sleeping (world_sleep.cpp): after a step, whether s falls asleep; before
+  // one, whether an asleep s must wake.
+  void update_sleep(System& s, btScalar dt);
+  bool must_wake(const System& s, btScalar dt) const;
+  // Whether an awake non-static body can reach the box [lo, hi] within dt.
+  bool awake_body_near(const xpbd::Vec3& lo, const xpbd::Vec3& hi, btScalar dt) const;
   System& system(int id);
   const System& system(int id) const;
   // The system's model, copied on first use so that it is the system's own.
