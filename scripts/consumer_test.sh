@@ -69,13 +69,13 @@ for p in float64 float; do
   consumer "$tmp/consumer-$p" -DXPBD_CONSUMER_PRECISION=$p >"$log" 2>&1 \
     || { cat "$log"; fail "configuring tests/consumer with COMPONENTS $p"; }
   grep -q "xpbd_bullet 0.*($p) from $prefix" "$log" || { cat "$log"; fail "COMPONENTS $p did not load the $p package"; }
-  cmake --build "$tmp/consumer-$p" >"$log" 2>&1 || { cat "$log"; fail "building hello_cloth against the $p package"; }
+  cmake --build "$tmp/consumer-$p" >"$log" 2>&1 || { cat "$log"; fail "building hello_cloth and hello_plugin (a shared library) against the $p package"; }
   rc=0
   "$tmp/consumer-$p/hello_cloth" >"$log" 2>&1 || rc=$?
   if [ $rc -ne 0 ] || ! grep -q "hello_cloth: ok" "$log"; then
     cat "$log"; fail "hello_cloth ($p package): exit status $rc"
   fi
-  echo "consumer_test: find_package(xpbd_bullet CONFIG REQUIRED COMPONENTS $p): hello_cloth built and ran"
+  echo "consumer_test: find_package(xpbd_bullet CONFIG REQUIRED COMPONENTS $p): hello_cloth built and ran, hello_plugin (shared) linked"
 done
 consumer "$tmp/consumer-default" -DXPBD_CONSUMER_PRECISION= >"$log" 2>&1 \
   || { cat "$log"; fail "configuring tests/consumer without a component"; }

@@ -44,8 +44,12 @@ if(TARGET xpbd_io)
   set_target_properties(xpbd_io PROPERTIES OUTPUT_NAME xpbd_io${XPBD_SUFFIX} EXPORT_NAME io)
   list(APPEND xpbd_install_targets xpbd_io)
 endif()
+# Position-independent code, static libraries included, so that an
+# application can link them into its own shared library or plugin
+# (tests/consumer builds one).
 foreach(t IN LISTS xpbd_install_targets)
   set_target_properties(${t} PROPERTIES
+    POSITION_INDEPENDENT_CODE ON
     VERSION ${PROJECT_VERSION}
     SOVERSION ${PROJECT_VERSION_MAJOR}.${PROJECT_VERSION_MINOR}
     XPBD_BULLET_PRECISION ${XPBD_PRECISION}
