@@ -64,7 +64,7 @@ int main() {
   // XPBD inside the Bullet world: 10 substeps per Bullet step (the default).
   // The XpbdWorld is declared after the bodies, so it is destroyed first.
   xpbd_bullet::XpbdWorld xpbd_world(world);
-  const int id = xpbd_world.add_system(model, xpbd::make_state(*model));
+  const xpbd_bullet::SystemId id = xpbd_world.add_system(model, xpbd::make_state(*model));
   // The corners (0, 0) and (8, 0) to the box's top corners at z = +0.2 m
   // (points in the box's centre-of-mass frame).
   xpbd_world.attach(id, grid.at(0, 0), &box, btVector3(-half.x(), half.y(), half.z()));

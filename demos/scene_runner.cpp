@@ -400,7 +400,7 @@ class XpbdSim : public SoftSim {
   bool timing_ = false;
   xpbd_bullet::SystemTimes times_;  // before world_: outlives the system
   xpbd_bullet::XpbdWorld world_;  // removes its action from the world when destroyed
-  int id_ = 0;
+  xpbd_bullet::SystemId id_;
   long long projections_ = 0;
 };
 

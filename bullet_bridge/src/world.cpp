@@ -220,7 +220,7 @@ void XpbdWorld::pre_tick(btDynamicsWorld* world, btScalar dt) {
   xw->pre_solve(dt);
 }
 
-int XpbdWorld::add_system(std::shared_ptr<const xpbd::Model> model, xpbd::State state,
+SystemId XpbdWorld::add_system(std::shared_ptr<const xpbd::Model> model, xpbd::State state,
                           const SystemSettings& settings) {
   if (!model) throw xpbd::ConfigError("add_system: model is null");
   check_settings(settings);
@@ -234,34 +234,34 @@ int XpbdWorld::add_system(std::shared_ptr<const xpbd::Model> model, xpbd::State 
   s->state = std::move(state);
   s->settings = settings;
   systems_.push_back(std::move(s));
-  return systems_.back()->id;
+  return SystemId(systems_.back()->id);
 }
 
-void XpbdWorld::remove_system(int id) {
-  auto it = std::find_if(systems_.begin(), systems_.end(), [&](auto& s) { return s->id == id; });
-  if (it == systems_.end()) throw std::out_of_range("remove_system: no system with id " + std::to_string(id));
+void XpbdWorld::remove_system(SystemId id) {
+  auto it = std::find_if(systems_.begin(), systems_.end(), [&](auto& s) { return s->id == id.value; });
+  if (it == systems_.end()) throw std::out_of_range("remove_system: no system with id " + std::to_string(id.value));
   systems_.erase(it);
-  std::erase_if(attachments_, [&](const Attachment& a) { return a.system == id; });
+  std::erase_if(attachments_, [&](const Attachment& a) { return a.system == id.value; });
 }
 
-bool XpbdWorld::has_system(int id) const {
-  return std::any_of(systems_.begin(), systems_.end(), [&](auto& s) { return s->id == id; });
+bool XpbdWorld::has_system(SystemId id) const {
+  return std::any_of(systems_.begin(), systems_.end(), [&](auto& s) { return s->id == id.value; });
 }
 
-XpbdWorld::System& XpbdWorld::system(int id) {
+XpbdWorld::System& XpbdWorld::system(SystemId id) {
   for (auto& s : systems_)
-    if (s->id == id) return *s;
-  throw std::out_of_range("XpbdWorld: no system with id " + std::to_string(id));
+    if (s->id == id.value) return *s;
+  throw std::out_of_range("XpbdWorld: no system with id " + std::to_string(id.value));
 }
-const XpbdWorld::System& XpbdWorld::system(int id) const {
+const XpbdWorld::System& XpbdWorld::system(SystemId id) const {
   return const_cast<XpbdWorld*>(this)->system(id);
 }
 
-xpbd::State& XpbdWorld::state(int id) { return system(id).state; }
-const xpbd::State& XpbdWorld::state(int id) const { return system(id).state; }
-const xpbd::Model& XpbdWorld::model(int id) const { return *system(id).model; }
-const SystemSettings& XpbdWorld::settings(int id) const { return system(id).settings; }
-xpbd::Model& XpbdWorld::own_model(int id) {
+xpbd::State& XpbdWorld::state(SystemId id) { return system(id).state; }
+const xpbd::State& XpbdWorld::state(SystemId id) const { return system(id).state; }
+const xpbd::Model& XpbdWorld::model(SystemId id) const { return *system(id).model; }
+const SystemSettings& XpbdWorld::settings(SystemId id) const { return system(id).settings; }
+xpbd::Model& XpbdWorld::own_model(SystemId id) {
   System& s = system(id);
   if (!s.own_model) {
     s.own_model = std::make_shared<xpbd::Model>(*s.model);
@@ -272,7 +272,7 @@ xpbd::Model& XpbdWorld::own_model(int id) {
   s.quiet = 0;
   return *s.own_model;
 }
-void XpbdWorld::set_settings(int id, const SystemSettings& settings) {
+void XpbdWorld::set_settings(SystemId id, const SystemSettings& settings) {
   System& s = system(id);
   check_settings(settings);
   s.settings = settings;
@@ -280,7 +280,7 @@ void XpbdWorld::set_settings(int id, const SystemSettings& settings) {
   s.quiet = 0;
 }
 
-int XpbdWorld::attach(int id, Index particle, btRigidBody* body, const btVector3& local,
+AttachmentId XpbdWorld::attach(SystemId id, Index particle, btRigidBody* body, const btVector3& local,
                       Real compliance) {
   System& s = system(id);
   if (particle < 0 || particle >= s.model->num_particles())
@@ -290,27 +290,28 @@ int XpbdWorld::attach(int id, Index particle, btRigidBody* body, const btVector3
   if (!in_world(world_, body)) throw xpbd::ConfigError("attach: body is not in the world");
   if (!(compliance >= Real(0)) || !std::isfinite(compliance))
     throw xpbd::ConfigError("attach: compliance must be finite and >= 0, got " + std::to_string(compliance));
-  attachments_.push_back(Attachment{next_attachment_, id, particle, body, local, compliance});
-  return next_attachment_++;
+  attachments_.push_back(Attachment{next_attachment_, id.value, particle, body, local, compliance});
+  return AttachmentId(next_attachment_++);
 }
 
-void XpbdWorld::remove_attachment(int attachment_id) {
-  const auto n = std::erase_if(attachments_, [&](const Attachment& a) { return a.id == attachment_id; });
-  if (n == 0) throw std::out_of_range("remove_attachment: no attachment with id " + std::to_string(attachment_id));
+void XpbdWorld::remove_attachment(AttachmentId attachment_id) {
+  const auto n = std::erase_if(attachments_, [&](const Attachment& a) { return a.id == attachment_id.value; });
+  if (n == 0)
+    throw std::out_of_range("remove_attachment: no attachment with id " + std::to_string(attachment_id.value));
 }
 
-const std::string& XpbdWorld::error(int id) const { return system(id).error; }
+const std::string& XpbdWorld::error(SystemId id) const { return system(id).error; }
 
-const std::vector<BodyContactReport>& XpbdWorld::contact_report(int id) const { return system(id).report; }
+const std::vector<BodyContactReport>& XpbdWorld::contact_report(SystemId id) const { return system(id).report; }
 
-void XpbdWorld::set_step_callback(int id, StepCallback callback) { system(id).callback = std::move(callback); }
+void XpbdWorld::set_step_callback(SystemId id, StepCallback callback) { system(id).callback = std::move(callback); }
 
 void XpbdWorld::run_callbacks(btScalar dt) {
   // By id, from a copy: a callback may add or remove systems.
   callback_ids_.clear();
   for (const auto& s : systems_)
-    if (s->callback && s->error.empty() && s->stepped) callback_ids_.push_back(s->id);
-  for (const int id : callback_ids_) {
+    if (s->callback && s->error.empty() && s->stepped) callback_ids_.push_back(SystemId(s->id));
+  for (const SystemId id : callback_ids_) {
     if (!has_system(id)) continue;
     System& s = system(id);
     if (!s.callback || !s.error.empty()) continue;

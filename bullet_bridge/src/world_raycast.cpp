@@ -18,7 +18,7 @@ std::vector<XpbdWorld::RayHit> XpbdWorld::ray_test_all(const btVector3& from, co
   std::vector<RayHit> hits;
   for (const auto& s : systems_) {
     if (!s->error.empty()) continue;
-    for (const xpbd::RayHit& h : xpbd::ray_hits(*s->model, s->state, a, b)) hits.push_back(RayHit{s->id, h});
+    for (const xpbd::RayHit& h : xpbd::ray_hits(*s->model, s->state, a, b)) hits.push_back(RayHit{SystemId(s->id), h});
   }
   std::stable_sort(hits.begin(), hits.end(), [](const RayHit& x, const RayHit& y) {
     return x.hit.fraction != y.hit.fraction ? x.hit.fraction < y.hit.fraction : x.system < y.system;

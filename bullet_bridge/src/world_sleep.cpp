@@ -8,9 +8,9 @@
 
 namespace xpbd_bullet {
 
-bool XpbdWorld::sleeping(int id) const { return system(id).asleep; }
+bool XpbdWorld::sleeping(SystemId id) const { return system(id).asleep; }
 
-void XpbdWorld::wake(int id) {
+void XpbdWorld::wake(SystemId id) {
   System& s = system(id);
   s.asleep = false;
   s.quiet = 0;

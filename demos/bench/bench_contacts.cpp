@@ -54,7 +54,7 @@
 namespace {
 
 // ContactSettings::cull of system id (settings are replaced as a whole).
-void set_cull(xpbd_bullet::XpbdWorld& xw, int id, bool cull) {
+void set_cull(xpbd_bullet::XpbdWorld& xw, xpbd_bullet::SystemId id, bool cull) {
   xpbd_bullet::SystemSettings s = xw.settings(id);
   s.contacts.cull = cull;
   xw.set_settings(id, s);
@@ -85,7 +85,7 @@ struct Scene {
   std::vector<std::unique_ptr<btCollisionShape>> shapes;
   std::vector<std::unique_ptr<btRigidBody>> bodies;
   std::unique_ptr<xpbd_bullet::XpbdWorld> xw;
-  int id = -1;
+  xpbd_bullet::SystemId id;
   std::shared_ptr<const Model> model;
   State snapshot;       // cloth after the warm-up
   State with_contacts;  // snapshot + the bodies and contacts of one bridge step from it

@@ -47,7 +47,7 @@ struct Scene {
     auto model = std::make_shared<const xpbd::Model>(xpbd::compile(scene));
     xpbd_bullet::SystemSettings set;
     if (mode == 1) set.sleep_speed = xpbd::Real(0.01), set.sleep_time = xpbd::Real(0.2);
-    const int id = xw->add_system(model, xpbd::make_state(*model), set);
+    const auto id = xw->add_system(model, xpbd::make_state(*model), set);
     for (int f = 0; f < 120; ++f) step();
     if (mode == 1 && !xw->sleeping(id)) {
       std::fprintf(stderr, "bench_sleep: the cloth did not fall asleep in 2 s\n");

@@ -40,7 +40,7 @@ struct Scene {
   BulletWorld bw;
   std::unique_ptr<XpbdWorld> xw;
   std::vector<std::pair<std::string, btRigidBody*>> bodies;
-  int cloth = -1, shots = -1;
+  xpbd_bullet::SystemId cloth, shots;
 
   explicit Scene(bool cull) {
     auto add = [&](const std::string& name, btRigidBody* b) { bodies.emplace_back(name, b); };
@@ -133,7 +133,7 @@ struct Scene {
 
   // Name of the body behind shadow `k` of system `id`: static bodies by their
   // start pose (equal to their pose, exactly), dynamic ones by inverse mass.
-  std::string body_name(int id, Index k) const {
+  std::string body_name(xpbd_bullet::SystemId id, Index k) const {
     const xpbd::RigidBody& r = xw->state(id).bodies[std::size_t(k)];
     for (const auto& [name, b] : bodies) {
       if (b->getInvMass() != r.inv_mass) continue;
@@ -175,10 +175,10 @@ TEST(WorldCulling, SameContactsAndTrajectoriesAsBruteForceOnEveryShapeKind) {
     ASSERT_EQ(sc.shadows, sb.shadows) << where;
     queries_culled += sc.queries;
     queries_brute += sb.queries;
-    for (int id : {culled.cloth, culled.shots}) {
+    for (xpbd_bullet::SystemId id : {culled.cloth, culled.shots}) {
       const xpbd::State& a = culled.xw->state(id);
       const xpbd::State& b = brute.xw->state(id);
-      expect_same_contacts(a.contacts, b.contacts, where + ", system " + std::to_string(id));
+      expect_same_contacts(a.contacts, b.contacts, where + ", system " + std::to_string(id.value));
       // The same contacts give bitwise the same step.
       ASSERT_EQ(a.x, b.x) << where;
       ASSERT_EQ(a.v, b.v) << where;
@@ -244,7 +244,7 @@ TEST(WorldCulling, ParticleJustWithinReachOfAnAabbFaceGetsItsContact) {
   System sys = make_system(scene);
   for (bool cull : {true, false}) {
     set.contacts.cull = cull;
-    const int id = xw.add_system(sys.model, sys.state, set);
+    const auto id = xw.add_system(sys.model, sys.state, set);
     bw.step();
     std::vector<bool> got(cases.size(), false);
     for (const auto& c : xw.state(id).contacts) got[std::size_t(c.particle)] = true;

@@ -15,7 +15,7 @@ extern "C" int hello_plugin_particles(btDiscreteDynamicsWorld* world) {
   d.nx = d.ny = 4;
   xpbd::add_cloth_grid(scene, d);
   auto model = std::make_shared<const xpbd::Model>(xpbd::compile(scene));
-  const int id = xw.add_system(model, xpbd::make_state(*model));
+  const auto id = xw.add_system(model, xpbd::make_state(*model));
   world->stepSimulation(btScalar(1) / 60, 1, btScalar(1) / 60);
   return static_cast<int>(xw.state(id).x.size());
 }

@@ -46,7 +46,7 @@ Hanging run_bridge(int rate, int substeps, Real alpha, Real y0, Real v0, Real se
   SystemSettings set;
   set.substeps = substeps;
   set.contacts.enabled = false;
-  const int id = xw.add_system(sys.model, sys.state, set);
+  const auto id = xw.add_system(sys.model, sys.state, set);
   xw.attach(id, 0, box, btVector3(0, 0, 0), alpha);
   Hanging out;
   const int steps = static_cast<int>(std::lround(seconds / dt));
@@ -183,7 +183,7 @@ StackRun run_stack(Real a, bool coupled) {
   System sys = make_system(scene);
   SystemSettings set;
   set.contacts.enabled = false;
-  const int id = xw.add_system(sys.model, sys.state, set);
+  const auto id = xw.add_system(sys.model, sys.state, set);
   if (coupled)
     for (int i = 0; i < 4; ++i)
       xw.attach(id, i, stack[0], btVector3((i & 1) ? 2 * a : -2 * a, a / 2, (i & 2) ? 2 * a : -2 * a), alpha);
@@ -262,7 +262,7 @@ TEST(CouplingLag, SwingingBoxMatchesTheSameBodySolvedByXpbd) {
   SystemSettings set;
   set.substeps = n;
   set.contacts.enabled = false;
-  const int id = xw.add_system(sys.model, sys.state, set);
+  const auto id = xw.add_system(sys.model, sys.state, set);
   for (int i = 0; i < 2; ++i) xw.attach(id, i, box, bt(corners[i]), alpha);
 
   // Reference: the box as an XPBD rigid body.

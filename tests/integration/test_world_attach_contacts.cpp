@@ -49,7 +49,7 @@ TEST(WorldAttachContacts, AttachedParticleIsNotPushedOffItsBody) {
   set.drag = 5;  // 1/s: settles within the 2 s
   ASSERT_TRUE(set.contacts.enabled);
   const Real thickness = set.contacts.thickness;
-  const int id = xw.add_system(sys.model, sys.state, set);
+  const auto id = xw.add_system(sys.model, sys.state, set);
   const Index last = first + n - 1;
   xw.attach(id, last, box, btVector3(0, btScalar(a), 0));
 

@@ -55,7 +55,7 @@ Result run(Real mass, Real drop, Real tilt) {
   c.v = Vec3::UnitZ();  // lying flat, at the thickness above the ground
   xpbd::add_cloth_grid(scene, c);
   System sys = make_system(scene);
-  const int id = xw.add_system(sys.model, sys.state, SystemSettings{});
+  const auto id = xw.add_system(sys.model, sys.state, SystemSettings{});
   Result r;
   constexpr int kFrames = 180;
   for (int f = 0; f < kFrames; ++f) {

@@ -67,7 +67,7 @@ TEST(WorldContacts, ClothDroppedOnSphereComesToRestWithoutPenetration) {
   set.substeps = 10;
   set.iterations = 2;
   set.contacts.thickness = Real(0.01);  // m
-  const int id = xw.add_system(cloth.model, cloth.state, set);
+  const auto id = xw.add_system(cloth.model, cloth.state, set);
   const xpbd::Model& m = xw.model(id);
   const Real thick = set.contacts.thickness;  // particle radius is 0
 
@@ -138,7 +138,7 @@ SlopeRun run_slope(Real theta, Real mu, Real seconds) {
   // thickness layer, 2 m uphill of the centre so that it can slide 4 m.
   const Vec3 centre = half.y() * up + Real(0.01) * up - Real(2) * downhill;
   Cloth cloth = make_cloth(8, Real(0.3), Real(0.1), centre, -downhill, Vec3::UnitZ());
-  const int id = xw.add_system(cloth.model, cloth.state, set);
+  const auto id = xw.add_system(cloth.model, cloth.state, set);
 
   SlopeRun r;
   r.min_height = 1e9;
@@ -214,7 +214,7 @@ TEST_P(FastParticle, StopsOnTheNearSideOfAThinPlate) {
   SystemSettings set;
   set.substeps = GetParam();
   set.contacts.thickness = Real(0.002);
-  const int id = xw.add_system(m, xpbd::make_state(*m), set);
+  const auto id = xw.add_system(m, xpbd::make_state(*m), set);
 
   // Two seconds: the impact (step 2) and 1.9 s of resting on the plate under
   // gravity. The particle must stay on the near side: above the plate's top
@@ -267,7 +267,7 @@ TEST_P(RemovedSupport, ClothFallsFreelyAfterItsSupportIsRemovedAndDeleted) {
   SystemSettings set;
   set.contacts.thickness = Real(0.005);
   Cloth cloth = make_cloth(12, Real(0.6), Real(0.1), Vec3(0, Real(0.52), 0));
-  const int id = xw.add_system(cloth.model, cloth.state, set);
+  const auto id = xw.add_system(cloth.model, cloth.state, set);
   for (int k = 0; k < 60; ++k) bw.step();  // 1 s: landed and resting
   const Real rest_y = centre_of_mass(xw.model(id), xw.state(id)).y();
   EXPECT_NEAR(rest_y, Real(0.5) + set.contacts.thickness, Real(2e-3)) << "not resting on the support";

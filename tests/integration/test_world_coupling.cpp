@@ -51,7 +51,7 @@ TEST(WorldCoupling, BallThrownIntoFreeClothConservesLinearMomentum) {
   System cloth = make_system(scene);
   SystemSettings set;
   set.iterations = 2;
-  const int id = xw.add_system(cloth.model, cloth.state, set);
+  const auto id = xw.add_system(cloth.model, cloth.state, set);
 
   const Vec3 p0 = momentum(*ball);  // the cloth is at rest
   Real min_ball_v = v0;
@@ -103,7 +103,7 @@ TEST(WorldCoupling, ClothAttachedToFreeBoxConservesLinearMomentumWhenPulled) {
   SystemSettings set;
   set.iterations = 2;
   set.contacts.enabled = false;  // the cloth is attached to the box's face: coupling only through the attachments
-  const int id = xw.add_system(cloth.model, cloth.state, set);
+  const auto id = xw.add_system(cloth.model, cloth.state, set);
   for (int i = 0; i < d.nx; ++i) {
     const Vec3 x = scene.positions[g.at(i, 0)];  // box frame = world frame at the start
     xw.attach(id, g.at(i, 0), box, bt(x));
@@ -178,7 +178,7 @@ PendulumResult swing_box(int n, Real spacing, Real rope_mass, Real M, Real theta
   set.substeps = substeps;
   set.iterations = iterations;
   set.contacts.enabled = false;
-  const int id = xw.add_system(rope.model, rope.state, set);
+  const auto id = xw.add_system(rope.model, rope.state, set);
   xw.attach(id, first + n - 1, box, btVector3(0, 0, 0));
 
   std::vector<Real> t, x;
@@ -296,7 +296,7 @@ TEST(WorldCoupling, HeavyBallOnTrampolineDoesNotTunnelAndComesToRest) {
   set.substeps = 20;
   set.iterations = 10;
   set.alternate_sweeps = true;
-  const int id = xw.add_system(cloth.model, cloth.state, set);
+  const auto id = xw.add_system(cloth.model, cloth.state, set);
 
   Real worst = 1e9;  // smallest (ball centre - cloth surface below it), m
   std::vector<Vec3> pos;

@@ -63,7 +63,7 @@ TEST(WorldDebugDraw, OneLinePerStructuralEdgeThroughTheWorldsDrawer) {
   XpbdWorld xw(bw.world());
   const int nx = 5, ny = 4;
   System s = grid(nx, ny, 1, true);
-  const int id = xw.add_system(s.model, s.state);
+  const auto id = xw.add_system(s.model, s.state);
   Recorder rec;
   bw.world().setDebugDrawer(&rec);
   bw.world().debugDrawWorld();  // Bullet calls the actions' debugDraw
@@ -96,7 +96,7 @@ TEST(WorldDebugDraw, ContactsOfAClothRestingOnTheGround) {
   bw.add_body(new btStaticPlaneShape(btVector3(0, 1, 0), 0), 0, BulletWorld::at(Vec3::Zero()));
   XpbdWorld xw(bw.world());
   System s = grid(4, 4, Real(0.05), true);
-  const int id = xw.add_system(s.model, s.state);
+  const auto id = xw.add_system(s.model, s.state);
   for (int k = 0; k < 60; ++k) bw.step();
   Recorder rec;
   rec.mode = btIDebugDraw::DBG_DrawContactPoints;  // contacts only: no lines

@@ -175,7 +175,7 @@ DrapeRun drape(Feature f, bool triangles, Real seconds) {
   set.iterations = 4;
   set.contacts.thickness = kThick;
   // feature_spacing keeps its default, 1 cm, well below the 10 cm edges.
-  const int id = xw.add_system(cloth.model, cloth.state, set);
+  const auto id = xw.add_system(cloth.model, cloth.state, set);
 
   DrapeRun r;
   const int steps = static_cast<int>(std::lround(seconds / kDt));
@@ -300,7 +300,7 @@ PairRun two_cloths(bool collide, Real distance, int iterations, Real seconds) {
   set.substeps = 10;
   set.iterations = iterations;
   set.contacts.thickness = Real(0.005);
-  const int id = xw.add_system(sys.model, sys.state, set);
+  const auto id = xw.add_system(sys.model, sys.state, set);
 
   PairRun r;
   const int steps = static_cast<int>(std::lround(seconds / kDt));
@@ -409,7 +409,7 @@ BounceRun bounce(Real es, Real eb, Real H, int substeps) {
   xpbd::SceneDesc scene;
   scene.add_particle(Vec3(Real(0.1), kLevel + H, Real(-0.2)), Real(0.01));
   System sys = make_system(scene);
-  const int id = xw.add_system(sys.model, sys.state, set);
+  const auto id = xw.add_system(sys.model, sys.state, set);
 
   BounceRun r;
   bool bounced = false;

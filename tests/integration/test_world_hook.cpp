@@ -50,7 +50,7 @@ TEST(WorldHook, ApplicationCallbackInstalledBeforeStillRunsFirstAndKeepsItsUserI
     XpbdWorld xw(bw.world());
     System s = falling_particle();
     SystemSettings set;
-    const int id = xw.add_system(s.model, s.state, set);
+    const auto id = xw.add_system(s.model, s.state, set);
     for (int k = 0; k < 5; ++k) bw.step();
     EXPECT_EQ(g_app_calls, 5);
     EXPECT_EQ(g_seen_info, &info);
@@ -69,7 +69,7 @@ TEST(WorldHook, ApplicationCallbackInstalledAfterIsChainedAndOneStepRunsLate) {
   XpbdWorld xw(bw.world());
   System s = falling_particle();
   SystemSettings set;
-  const int id = xw.add_system(s.model, s.state, set);
+  const auto id = xw.add_system(s.model, s.state, set);
   bw.step();
   int info = 3;
   g_app_calls = 0;
@@ -96,7 +96,7 @@ TEST(WorldHook, SecondXpbdWorldOnTheSameWorldIsRefused) {
   }
   // The first one still works.
   System s = falling_particle();
-  const int id = xw.add_system(s.model, s.state);
+  const auto id = xw.add_system(s.model, s.state);
   bw.step();
   EXPECT_LT(xw.state(id).x[0].y(), Real(10));
 }
@@ -105,8 +105,8 @@ TEST(WorldHook, FailedStepIsRecordedNotThrownAndOtherSystemsGoOn) {
   BulletWorld bw;
   XpbdWorld xw(bw.world());
   System a = falling_particle(), b = falling_particle();
-  const int ia = xw.add_system(a.model, a.state);
-  const int ib = xw.add_system(b.model, b.state);
+  const auto ia = xw.add_system(a.model, a.state);
+  const auto ib = xw.add_system(b.model, b.state);
   bw.step();
   EXPECT_EQ(xw.error(ia), "");
   // A diverged state (set here by hand between steps) makes the system's
@@ -119,7 +119,7 @@ TEST(WorldHook, FailedStepIsRecordedNotThrownAndOtherSystemsGoOn) {
   EXPECT_TRUE(std::isnan(xw.state(ia).x[0].y()));  // no longer stepped
   EXPECT_EQ(xw.error(ib), "");
   EXPECT_NEAR(xw.state(ib).x[0].y(), fallen(3, 10), 1e3 * kEps * 10);
-  EXPECT_THROW((void)xw.error(99), std::out_of_range);
+  EXPECT_THROW((void)xw.error(xpbd_bullet::SystemId(99)), std::out_of_range);
 }
 
 }  // namespace

@@ -49,7 +49,7 @@ TEST(WorldMaterials, SpringPeriodFollowsTheComplianceSetAtRunTime) {
   System s = make_system(scene);
   SystemSettings set;
   set.substeps = 20;  // omega h = 0.01 at the shorter period: its error is O(1e-4)
-  const int id = xw.add_system(s.model, s.state, set);
+  const auto id = xw.add_system(s.model, s.state, set);
 
   std::vector<Real> u;
   for (int k = 0; k < 180; ++k) {  // 3 s: 6 periods
@@ -82,7 +82,7 @@ TEST(WorldMaterials, BadChangesAreRefusedAndChangeNothing) {
   c.nx = c.ny = 4;
   xpbd::add_cloth_grid(scene, c);
   System s = make_system(scene);
-  const int id = xw.add_system(s.model, s.state);
+  const auto id = xw.add_system(s.model, s.state);
   const std::size_t n = xw.model(id).get<xpbd::Distance>().size();
   const xpbd::Material before = xw.model(id).get<xpbd::Distance>()[0].mat;
   auto message = [&](auto f) {
@@ -99,7 +99,7 @@ TEST(WorldMaterials, BadChangesAreRefusedAndChangeNothing) {
   const std::string neg = message([&] { xw.set_material<xpbd::Distance>(id, 0, 1, {Real(-1), 0}); });
   EXPECT_NE(neg.find("mat.compliance"), std::string::npos) << neg;
   EXPECT_NE(neg.find("-1"), std::string::npos) << neg;
-  EXPECT_THROW(xw.set_material<xpbd::Distance>(77, 0, 1, {}), std::out_of_range);
+  EXPECT_THROW(xw.set_material<xpbd::Distance>(xpbd_bullet::SystemId(77), 0, 1, {}), std::out_of_range);
   EXPECT_EQ(xw.model(id).get<xpbd::Distance>()[0].mat.compliance, before.compliance);
   // Damping switches the damped kernel on (Model::has_damping), and the
   // coloured copy of the Distance elements follows.

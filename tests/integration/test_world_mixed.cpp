@@ -74,7 +74,7 @@ MixedRun run_mixed(bool with_xpbd, int steps) {
   bw.add_soft_body(sb);
 
   std::unique_ptr<XpbdWorld> xw;
-  int id = -1;
+  xpbd_bullet::SystemId id;
   if (with_xpbd) {
     xw = std::make_unique<XpbdWorld>(bw.world());
     xpbd::SceneDesc scene;
@@ -274,7 +274,7 @@ StairsRun run_stairs(const Vec3& start, const Vec3& v0, Real seconds) {
   SystemSettings set;
   set.iterations = 4;
   set.contacts.thickness = kThickness;
-  const int id = xw.add_system(cube.model, cube.state, set);
+  const auto id = xw.add_system(cube.model, cube.state, set);
 
   StairsRun r;
   const int steps = static_cast<int>(std::lround(seconds / kDt));

@@ -34,9 +34,9 @@ TEST(WorldRaycast, NearestSystemFirstAsBulletsRayTest) {
   bw.add_static_box(Vec3(Real(0.5), Real(0.5), Real(0.5)), BulletWorld::at(Vec3(Real(2.5), 0, Real(0.5))));
   XpbdWorld xw(bw.world());
   const System lower = flat_cloth(0, 0), upper = flat_cloth(0, Real(0.5)), beside = flat_cloth(2, Real(0.5));
-  const int a = xw.add_system(lower.model, lower.state);
-  const int b = xw.add_system(upper.model, upper.state);
-  const int c = xw.add_system(beside.model, beside.state);
+  const auto a = xw.add_system(lower.model, lower.state);
+  const auto b = xw.add_system(upper.model, upper.state);
+  const auto c = xw.add_system(beside.model, beside.state);
 
   // Down through both stacked cloths: the upper one at 1/4 of the way, then the lower at 1/2.
   const btVector3 from(Real(0.6), 1, Real(0.3)), to(Real(0.6), -1, Real(0.3));
@@ -73,8 +73,8 @@ TEST(WorldRaycast, FailedSystemIsNotTestedAndBadRaysAreNamed) {
   BulletWorld bw;
   XpbdWorld xw(bw.world());
   const System lower = flat_cloth(0, 0), upper = flat_cloth(0, Real(0.5));
-  const int a = xw.add_system(lower.model, lower.state);
-  const int b = xw.add_system(upper.model, upper.state);
+  const auto a = xw.add_system(lower.model, lower.state);
+  const auto b = xw.add_system(upper.model, upper.state);
   xw.state(b).x[7] = Vec3::Constant(std::numeric_limits<Real>::quiet_NaN());
   bw.step();
   ASSERT_FALSE(xw.error(b).empty());

@@ -45,7 +45,7 @@ TEST(WorldReport, ClothAtRestPushesItsSupportWithItsWeight) {
     XpbdWorld xw(bw.world());
     const Real M = Real(0.3);
     const System cloth = small_cloth(Real(0.21), M);
-    const int id = xw.add_system(cloth.model, cloth.state);
+    const auto id = xw.add_system(cloth.model, cloth.state);
     EXPECT_TRUE(xw.contact_report(id).empty());
     for (int f = 0; f < 120; ++f) bw.step();
     const auto& report = xw.contact_report(id);
@@ -68,7 +68,7 @@ TEST(WorldReport, ImpulsesOnAFreeBodyAddUpToItsMomentumChange) {
   XpbdWorld xw(bw.world());
   // The cloth flies down onto the box's top at 3 m/s.
   const System cloth = small_cloth(Real(0.3), Real(0.5), Vec3(0, -3, 0));
-  const int id = xw.add_system(cloth.model, cloth.state);
+  const auto id = xw.add_system(cloth.model, cloth.state);
   Vec3 sum = Vec3::Zero();
   bool touched = false;
   for (int f = 0; f < 30; ++f) {
@@ -92,10 +92,10 @@ TEST(WorldReport, CallbackRunsOncePerInternalStepAndItsErrorsStayInside) {
   BulletWorld bw;
   XpbdWorld xw(bw.world());
   const System a = small_cloth(1, Real(0.1)), b = small_cloth(2, Real(0.1));
-  const int ia = xw.add_system(a.model, a.state), ib = xw.add_system(b.model, b.state);
-  std::vector<std::pair<int, btScalar>> calls;
+  const auto ia = xw.add_system(a.model, a.state), ib = xw.add_system(b.model, b.state);
+  std::vector<std::pair<xpbd_bullet::SystemId, btScalar>> calls;
   Real time_seen = -1;
-  xw.set_step_callback(ia, [&](int id, btScalar dt) {
+  xw.set_step_callback(ia, [&](xpbd_bullet::SystemId id, btScalar dt) {
     calls.emplace_back(id, dt);
     time_seen = xw.state(id).time;  // the state after this step
   });
@@ -108,7 +108,7 @@ TEST(WorldReport, CallbackRunsOncePerInternalStepAndItsErrorsStayInside) {
   }
   EXPECT_NEAR(time_seen, 2 * kDt, 1e-6);
   // A throwing callback stops its system only; stepSimulation does not throw.
-  xw.set_step_callback(ib, [](int, btScalar) { throw std::runtime_error("boom"); });
+  xw.set_step_callback(ib, [](xpbd_bullet::SystemId, btScalar) { throw std::runtime_error("boom"); });
   EXPECT_NO_THROW(bw.step());
   EXPECT_EQ(xw.error(ib), "step callback: boom");
   EXPECT_TRUE(xw.error(ia).empty());
@@ -117,7 +117,7 @@ TEST(WorldReport, CallbackRunsOncePerInternalStepAndItsErrorsStayInside) {
   EXPECT_EQ(xw.state(ib).time, tb);  // frozen
   EXPECT_EQ(calls.size(), 4u);       // a went on
   // A callback may remove its own system; an empty one is removed.
-  xw.set_step_callback(ia, [&](int id, btScalar) { xw.remove_system(id); });
+  xw.set_step_callback(ia, [&](xpbd_bullet::SystemId id, btScalar) { xw.remove_system(id); });
   EXPECT_NO_THROW(bw.step());
   EXPECT_FALSE(xw.has_system(ia));
   EXPECT_THROW(xw.set_step_callback(ia, {}), std::out_of_range);

@@ -58,7 +58,7 @@ Heights run(int substeps) {
   System sys = make_system(scene);
   SystemSettings set;
   set.substeps = substeps;
-  const int id = xw.add_system(sys.model, sys.state, set);
+  const auto id = xw.add_system(sys.model, sys.state, set);
   Heights h;
   constexpr int kFrames = 360;
   for (int f = 0; f < kFrames; ++f) {

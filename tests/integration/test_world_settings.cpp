@@ -44,7 +44,7 @@ TEST(WorldSettings, BadSettingsAreRefusedWhereTheyAreSetAndTheOldOnesKept) {
   BulletWorld bw;
   XpbdWorld xw(bw.world());
   System s = particle_at(Vec3(0, 10, 0));
-  const int id = xw.add_system(s.model, s.state);
+  const auto id = xw.add_system(s.model, s.state);
   SystemSettings bad = xw.settings(id);
   bad.iterations = 0;
   EXPECT_TRUE(names([&] { xw.set_settings(id, bad); }, "iterations", "0"));
@@ -57,7 +57,7 @@ TEST(WorldSettings, BadSettingsAreRefusedWhereTheyAreSetAndTheOldOnesKept) {
   bad = xw.settings(id);
   bad.contacts.restitution = std::numeric_limits<Real>::quiet_NaN();
   EXPECT_TRUE(names([&] { xw.set_settings(id, bad); }, "contacts.restitution", "nan"));
-  EXPECT_THROW(xw.set_settings(42, SystemSettings{}), std::out_of_range);
+  EXPECT_THROW(xw.set_settings(xpbd_bullet::SystemId(42), SystemSettings{}), std::out_of_range);
   // The old settings stay, and the system steps with them.
   EXPECT_EQ(xw.settings(id).iterations, 1);
   EXPECT_EQ(xw.settings(id).contacts.thickness, xpbd_bullet::ContactSettings{}.thickness);
@@ -70,7 +70,7 @@ TEST(WorldSettings, NewSettingsTakeEffectAtTheNextStepKeepingTheId) {
   BulletWorld bw;
   XpbdWorld xw(bw.world());
   System s = particle_at(Vec3(0, 10, 0));
-  const int id = xw.add_system(s.model, s.state);
+  const auto id = xw.add_system(s.model, s.state);
   bw.step();  // 10 substeps
   SystemSettings set = xw.settings(id);
   set.substeps = 20;
@@ -93,8 +93,8 @@ TEST(WorldSettings, NonFiniteBodyIsLeftOutAndTheSystemsGoOn) {
   btRigidBody* box = bw.add_body(new btBoxShape(btVector3(1, 0.1, 1)), 1, BulletWorld::at(Vec3(0, 9.9, 0)));
   XpbdWorld xw(bw.world());
   System a = particle_at(Vec3(0, 10.5, 0)), b = particle_at(Vec3(0, 10.0, 0));
-  const int ia = xw.add_system(a.model, a.state);
-  const int ib = xw.add_system(b.model, b.state);
+  const auto ia = xw.add_system(a.model, a.state);
+  const auto ib = xw.add_system(b.model, b.state);
   xw.attach(ib, 0, box, btVector3(0, 0.1, 0));
   btTransform t = box->getWorldTransform();
   t.setOrigin(btVector3(0, std::numeric_limits<btScalar>::quiet_NaN(), 0));

@@ -45,7 +45,7 @@ System flat_cloth(Real y, xpbd::ClothPins pins = xpbd::ClothPins::none) {
 }
 
 // Steps until the system sleeps (at most `frames`); returns the frame, or -1.
-int step_until_asleep(BulletWorld& bw, const XpbdWorld& xw, int id, int frames) {
+int step_until_asleep(BulletWorld& bw, const XpbdWorld& xw, xpbd_bullet::SystemId id, int frames) {
   for (int f = 0; f < frames; ++f) {
     bw.step();
     if (xw.sleeping(id)) return f;
@@ -58,7 +58,7 @@ TEST(WorldSleep, ClothAtRestFallsAsleepAndABoxFallingOntoItWakesIt) {
   bw.add_body(new btStaticPlaneShape(btVector3(0, 1, 0), 0), 0, BulletWorld::at(Vec3::Zero()));
   XpbdWorld xw(bw.world());
   const System cloth = flat_cloth(kT + Real(0.05));
-  const int id = xw.add_system(cloth.model, cloth.state, sleepy());
+  const auto id = xw.add_system(cloth.model, cloth.state, sleepy());
   const int slept = step_until_asleep(bw, xw, id, 300);
   std::printf("asleep after %d frames\n", slept + 1);
   ASSERT_GE(slept, 0) << "never fell asleep in 5 s";
@@ -106,7 +106,7 @@ TEST(WorldSleep, MovingAPinWakesIt) {
   System cloth = flat_cloth(1, xpbd::ClothPins::top_corners);
   SystemSettings set = sleepy();
   set.drag = 5;
-  const int id = xw.add_system(cloth.model, cloth.state, set);
+  const auto id = xw.add_system(cloth.model, cloth.state, set);
   ASSERT_GE(step_until_asleep(bw, xw, id, 600), 0) << "never fell asleep in 10 s";
   bw.step();
   ASSERT_TRUE(xw.sleeping(id));
@@ -124,7 +124,7 @@ TEST(WorldSleep, WakeOnRequestOrNewSettingsAndBadSettingsAreNamed) {
   bw.add_body(new btStaticPlaneShape(btVector3(0, 1, 0), 0), 0, BulletWorld::at(Vec3::Zero()));
   XpbdWorld xw(bw.world());
   const System cloth = flat_cloth(kT);
-  const int id = xw.add_system(cloth.model, cloth.state, sleepy());
+  const auto id = xw.add_system(cloth.model, cloth.state, sleepy());
   ASSERT_GE(step_until_asleep(bw, xw, id, 120), 0);
   xw.wake(id);
   EXPECT_FALSE(xw.sleeping(id));
@@ -138,7 +138,7 @@ TEST(WorldSleep, WakeOnRequestOrNewSettingsAndBadSettingsAreNamed) {
   xw.set_material<xpbd::Distance>(id, 0, 1, xpbd::Material{Real(1e-6), 0});
   EXPECT_FALSE(xw.sleeping(id));
   // Off by default: the same cloth without sleep_speed never sleeps.
-  const int awake = xw.add_system(cloth.model, cloth.state);
+  const auto awake = xw.add_system(cloth.model, cloth.state);
   for (int f = 0; f < 120; ++f) bw.step();
   EXPECT_FALSE(xw.sleeping(awake));
   for (const auto& [field, speed, time] : {std::tuple{"sleep_speed", Real(-1), Real(1)},
@@ -163,7 +163,7 @@ TEST(WorldSleep, ClothUnderABodyThatBulletKeepsAwakeStaysAwake) {
   btRigidBody* box = bw.add_body(new btBoxShape(bt(half)), 2, BulletWorld::at(Vec3(0, 2 * kT + half.y(), 0)));
   XpbdWorld xw(bw.world());
   const System cloth = flat_cloth(kT);
-  const int id = xw.add_system(cloth.model, cloth.state, sleepy());
+  const auto id = xw.add_system(cloth.model, cloth.state, sleepy());
   EXPECT_LT(step_until_asleep(bw, xw, id, 180), 0);
   EXPECT_NEAR(Real(box->getCenterOfMassPosition().y()) - half.y(), 2 * kT, 1e-3);
 }

@@ -93,7 +93,7 @@ Result run(int bodies, bool cloth, int contact_sweeps = 0) {
   System sys = make_system(scene);
   SystemSettings set;  // the defaults, but for contact_sweeps
   set.contact_sweeps = contact_sweeps;
-  int id = -1;
+  xpbd_bullet::SystemId id;
   if (cloth) {
     id = xw.add_system(sys.model, sys.state, set);
     for (int i : {0, kN / 2, kN - 1}) {

@@ -61,7 +61,9 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <compare>
 #include <functional>
+#include <ostream>
 #include <memory>
 #include <optional>
 #include <string>
@@ -184,6 +186,24 @@ struct StepStats {
   int sleeping = 0;        // systems asleep in this step (not stepped)
 };
 
+// Typed ids: a system's id and an attachment's id cannot be mixed up (nor
+// taken for a particle index). Each is made only explicitly from an int;
+// .value is the number (stable until removed, never reused by a world).
+struct SystemId {
+  int value = -1;
+  constexpr SystemId() = default;
+  constexpr explicit SystemId(int v) : value(v) {}
+  friend constexpr auto operator<=>(SystemId, SystemId) = default;
+};
+struct AttachmentId {
+  int value = -1;
+  constexpr AttachmentId() = default;
+  constexpr explicit AttachmentId(int v) : value(v) {}
+  friend constexpr auto operator<=>(AttachmentId, AttachmentId) = default;
+};
+inline std::ostream& operator<<(std::ostream& o, SystemId id) { return o << "system " << id.value; }
+inline std::ostream& operator<<(std::ostream& o, AttachmentId id) { return o << "attachment " << id.value; }
+
 // One body that a system's particles touched in the last internal step
 // (XpbdWorld::contact_report).
 struct BodyContactReport {
@@ -203,7 +223,7 @@ class XpbdWorld : public btActionInterface {
   // settings, pins and materials, or remove systems and attachments. An
   // exception from it stops that system (error(id) starts with "step
   // callback: ") and is not thrown out of stepSimulation.
-  using StepCallback = std::function<void(int id, btScalar dt)>;
+  using StepCallback = std::function<void(SystemId id, btScalar dt)>;
 
   // Installs the pre-tick hook (chained) and adds itself to `world` as an
   // action; both are removed in the destructor. The world must outlive this
@@ -215,34 +235,34 @@ class XpbdWorld : public btActionInterface {
 
   // Adds a particle system; returns its id (stable until removed). The state
   // must come from xpbd::make_state(*model) (or be a copy of one).
-  int add_system(std::shared_ptr<const xpbd::Model> model, xpbd::State state,
+  SystemId add_system(std::shared_ptr<const xpbd::Model> model, xpbd::State state,
                  const SystemSettings& settings = {});
   // Removes a system between steps. Throws std::out_of_range for an unknown id.
-  void remove_system(int id);
-  bool has_system(int id) const;
+  void remove_system(SystemId id);
+  bool has_system(SystemId id) const;
 
   // Attaches particle `particle` of system `id` to the point `local` (m, in
   // the body's centre-of-mass frame) of `body`: two-way if the body is
   // dynamic, one-way if it is static or kinematic. Returns an attachment id.
   // The body must be in the world; remove the attachment before deleting it.
-  int attach(int id, xpbd::Index particle, btRigidBody* body, const btVector3& local,
+  AttachmentId attach(SystemId id, xpbd::Index particle, btRigidBody* body, const btVector3& local,
              xpbd::Real compliance = 0);
-  void remove_attachment(int attachment_id);
+  void remove_attachment(AttachmentId attachment_id);
 
   // Why system `id`'s step failed ("" while it has not): the system is then
   // frozen, and nothing was thrown out of stepSimulation. Throws
   // std::out_of_range for an unknown id.
-  const std::string& error(int id) const;
+  const std::string& error(SystemId id) const;
 
-  xpbd::State& state(int id);
-  const xpbd::State& state(int id) const;
-  const xpbd::Model& model(int id) const;
+  xpbd::State& state(SystemId id);
+  const xpbd::State& state(SystemId id) const;
+  const xpbd::Model& model(SystemId id) const;
   // The system's settings. To change them, pass new ones to set_settings,
   // which checks them first: a bad value throws xpbd::ConfigError naming the
   // field and value there, and the system keeps its old settings. They take
   // effect at the next step; the system keeps its id and attachments.
-  const SystemSettings& settings(int id) const;
-  void set_settings(int id, const SystemSettings& settings);
+  const SystemSettings& settings(SystemId id) const;
+  void set_settings(SystemId id, const SystemSettings& settings);
 
   // Changes the material (compliance, damping) of elements [first, first +
   // count) of constraint type T of system `id`, e.g.
@@ -253,7 +273,7 @@ class XpbdWorld : public btActionInterface {
   // system gets its own copy of the model, so other systems and the
   // application's model (add_system's argument) keep the old material.
   template <class T>
-  void set_material(int id, std::size_t first, std::size_t count, const xpbd::Material& mat) {
+  void set_material(SystemId id, std::size_t first, std::size_t count, const xpbd::Material& mat) {
     xpbd::set_material<T>(own_model(id), first, count, mat);
   }
 
@@ -263,15 +283,15 @@ class XpbdWorld : public btActionInterface {
   // the impulse they applied to it (BodyContactReport); empty before the
   // first step and after a failed one. Read it between steps or from the
   // step callback.
-  const std::vector<BodyContactReport>& contact_report(int id) const;
+  const std::vector<BodyContactReport>& contact_report(SystemId id) const;
   // Sets (or, with an empty function, removes) system `id`'s step callback.
-  void set_step_callback(int id, StepCallback callback);
+  void set_step_callback(SystemId id, StepCallback callback);
 
   // Sleeping (SystemSettings::sleep_speed): whether system `id` is asleep,
   // and a request to wake it (it then steps from the next internal step and
   // needs sleep_time of quiet again before it can sleep).
-  bool sleeping(int id) const;
-  void wake(int id);
+  bool sleeping(SystemId id) const;
+  void wake(SystemId id);
 
   // Ray queries against the systems' visible surfaces (xpbd/raycast.hpp:
   // Model::surface_triangles, both sides), as Bullet's rayTest: the segment
@@ -280,7 +300,7 @@ class XpbdWorld : public btActionInterface {
   // world's rayTest and keep the nearer of the two fractions. Throws
   // xpbd::ConfigError if from or to is not finite.
   struct RayHit {
-    int system = -1;  // the system's id
+    SystemId system;  // the system's id
     xpbd::RayHit hit;  // triangle, particles, barycentric weights, fraction, distance, point, normal
   };
   // The nearest hit over every system (equal fractions: lower system id).
@@ -326,10 +346,10 @@ class XpbdWorld : public btActionInterface {
   bool must_wake(const System& s, btScalar dt) const;
   // Whether an awake non-static body can reach the box [lo, hi] within dt.
   bool awake_body_near(const xpbd::Vec3& lo, const xpbd::Vec3& hi, btScalar dt) const;
-  System& system(int id);
-  const System& system(int id) const;
+  System& system(SystemId id);
+  const System& system(SystemId id) const;
   // The system's model, copied on first use so that it is the system's own.
-  xpbd::Model& own_model(int id);
+  xpbd::Model& own_model(SystemId id);
   // Steps every system that has not failed (shadows_ filled, stats_ reset).
   void run_systems(btScalar dt);
   void step_system(System& s, btScalar dt);
@@ -357,7 +377,7 @@ class XpbdWorld : public btActionInterface {
   bool pre_solved_ = false;  // pre_solve ran in the current internal step
   std::vector<Residual> residuals_;  // applied by the next updateAction
   std::vector<Predicted> predicted_;  // Bullet's contact accelerations of the last step
-  std::vector<int> callback_ids_;  // scratch: systems with a step callback
+  std::vector<SystemId> callback_ids_;  // scratch: systems with a step callback
   // Scratch, reused across steps.
   std::vector<const btCollisionObject*> candidates_;
   std::vector<Shadow> shadows_;  // bodies touched in the current internal step
