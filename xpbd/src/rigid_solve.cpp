@@ -13,10 +13,10 @@ namespace xpbd::rigid {
 
 using namespace detail;
 
-void begin_step(const Model& m, State& s) {
-  const Index np = m.num_particles();
-  const auto nb = static_cast<Index>(s.bodies.size());
-  for (std::size_t k = 0; k < s.bodies.size(); ++k) {
+namespace {
+
+void check_bodies(const State& s, std::size_t from) {
+  for (std::size_t k = from; k < s.bodies.size(); ++k) {
     const RigidBody& b = s.bodies[k];
     if (!(b.inv_mass >= Real(0)) || !std::isfinite(b.inv_mass) || !b.inv_inertia.allFinite() ||
         (b.inv_inertia.array() < Real(0)).any() || !b.x.allFinite() || !b.v.allFinite() ||
@@ -26,28 +26,27 @@ void begin_step(const Model& m, State& s) {
                         "]: pose, velocities, accelerations and inverse mass/inertia must be "
                         "finite and inverse mass/inertia >= 0");
   }
-  auto check = [&](const char* what, std::size_t k, Index p, Index b) {
-    if (p < 0 || p >= np)
-      throw ConfigError(std::string("state.") + what + "[" + std::to_string(k) +
-                        "].particle: index " + std::to_string(p) + " out of range [0, " +
-                        std::to_string(np) + ")");
-    if (b >= nb)
-      throw ConfigError(std::string("state.") + what + "[" + std::to_string(k) + "].body: index " +
-                        std::to_string(b) + " out of range [-1, " + std::to_string(nb) + ")");
-  };
-  for (std::size_t k = 0; k < s.contacts.size(); ++k)
-    check("contacts", k, s.contacts[k].particle, s.contacts[k].body);
-  for (std::size_t k = 0; k < s.attachments.size(); ++k)
-    check("attachments", k, s.attachments[k].particle, s.attachments[k].body);
-  for (std::size_t k = 0; k < s.triangle_contacts.size(); ++k)
-    for (Index p : s.triangle_contacts[k].tri) check("triangle_contacts", k, p, s.triangle_contacts[k].body);
-  s.contact_lambda.resize(s.contacts.size());
-  // Chains of the contacts of each particle (contact_last is all -1 between
-  // steps: only the entries set here are reset).
+}
+
+void check_index(const Model& m, const State& s, const char* what, std::size_t k, Index p, Index b) {
+  const Index np = m.num_particles();
+  const auto nb = static_cast<Index>(s.bodies.size());
+  if (p < 0 || p >= np)
+    throw ConfigError(std::string("state.") + what + "[" + std::to_string(k) + "].particle: index " +
+                      std::to_string(p) + " out of range [0, " + std::to_string(np) + ")");
+  if (b >= nb)
+    throw ConfigError(std::string("state.") + what + "[" + std::to_string(k) + "].body: index " +
+                      std::to_string(b) + " out of range [-1, " + std::to_string(nb) + ")");
+}
+
+// Chains of the contacts of each particle (contact_last is all -1 between
+// calls: only the entries set here are reset).
+void build_contact_chains(const Model& m, State& s) {
   const std::size_t nc = s.contacts.size();
+  s.contact_lambda.resize(nc);
   s.contact_head.resize(nc);
   s.contact_next.resize(nc);
-  s.contact_last.resize(static_cast<std::size_t>(np), -1);
+  s.contact_last.resize(static_cast<std::size_t>(m.num_particles()), -1);
   for (std::size_t k = 0; k < nc; ++k) {
     Index& last = s.contact_last[static_cast<std::size_t>(s.contacts[k].particle)];
     s.contact_next[k] = -1;
@@ -56,6 +55,21 @@ void begin_step(const Model& m, State& s) {
     last = Index(k);
   }
   for (const BodyContact& c : s.contacts) s.contact_last[static_cast<std::size_t>(c.particle)] = -1;
+}
+
+}  // namespace
+
+void begin_step(const Model& m, State& s) {
+  const auto nb = static_cast<Index>(s.bodies.size());
+  check_bodies(s, 0);
+  for (std::size_t k = 0; k < s.contacts.size(); ++k)
+    check_index(m, s, "contacts", k, s.contacts[k].particle, s.contacts[k].body);
+  for (std::size_t k = 0; k < s.attachments.size(); ++k)
+    check_index(m, s, "attachments", k, s.attachments[k].particle, s.attachments[k].body);
+  for (std::size_t k = 0; k < s.triangle_contacts.size(); ++k)
+    for (Index p : s.triangle_contacts[k].tri)
+      check_index(m, s, "triangle_contacts", k, p, s.triangle_contacts[k].body);
+  build_contact_chains(m, s);
   s.triangle_contact_lambda.resize(s.triangle_contacts.size());
   s.attachment_lambda.resize(s.attachments.size());
   for (std::size_t k = 0; k < s.world_contacts.size(); ++k) {
@@ -81,6 +95,15 @@ void begin_step(const Model& m, State& s) {
     const RigidBody& b = s.bodies[static_cast<std::size_t>(c.body)];
     s.world_contact_slack[k] = std::min(c.n.dot(b.x + b.q * c.r - c.p), Real(0));
   }
+}
+
+void contacts_added(const Model& m, State& s, std::size_t first_contact, std::size_t first_body) {
+  check_bodies(s, first_body);
+  for (std::size_t k = first_contact; k < s.contacts.size(); ++k)
+    check_index(m, s, "contacts", k, s.contacts[k].particle, s.contacts[k].body);
+  build_contact_chains(m, s);
+  s.body_contact_impulse.resize(s.bodies.size(), Vec3::Zero());
+  s.body_contact_push.resize(s.bodies.size(), Vec3::Zero());
 }
 
 void collect_contact_impulses(State& s, Real h) {

@@ -86,6 +86,36 @@ void predict(const Model& m, State& s, const StepConfig& cfg, Real h) {
   }
 }
 
+// StepConfig::refresh_contacts: every particle's path starts at the step's
+// start.
+void begin_paths(const Model& m, State& s) {
+  s.path_x = s.x;
+  s.path_v = s.v;
+  s.path_t.assign(static_cast<std::size_t>(m.num_particles()), Real(0));
+}
+
+// The movable particles whose predicted position (the end of substep `sub`)
+// is farther than the margin from their path, passed to the host; their
+// paths restart at the substep's start. Returns whether any was passed.
+bool refresh_escaped(const Model& m, State& s, const StepConfig& cfg, int sub, Real h) {
+  const Real t_end = Real(sub + 1) * h, t_start = Real(sub) * h;
+  const Real margin2 = cfg.contact_margin * cfg.contact_margin;
+  s.escaped.clear();
+  for (Index i = 0; i < m.num_particles(); ++i) {
+    if (m.inv_mass[i] == Real(0)) continue;
+    const Vec3 on_path = s.path_x[i] + (t_end - s.path_t[i]) * s.path_v[i];
+    if (!((s.x[i] - on_path).squaredNorm() <= margin2)) {
+      s.escaped.push_back(i);
+      s.path_x[i] = s.x_prev[i];
+      s.path_v[i] = s.v[i];
+      s.path_t[i] = t_start;
+    }
+  }
+  if (s.escaped.empty()) return false;
+  cfg.refresh_contacts(std::span<const Index>(s.escaped), sub);
+  return true;
+}
+
 void reset_multipliers(State& s) {
   for (auto& l : s.lambda) std::fill(l.begin(), l.end(), Real(0));
   std::fill(s.self_collision.lambda.begin(), s.self_collision.lambda.end(), Real(0));
@@ -146,6 +176,9 @@ void validate(const StepConfig& cfg) {
   if (!cfg.gravity.allFinite()) throw ConfigError("StepConfig.gravity: must be finite");
   if (!(cfg.drag >= Real(0)) || !std::isfinite(cfg.drag))
     throw ConfigError("StepConfig.drag: must be finite and >= 0, got " + num(cfg.drag));
+  if (!(cfg.contact_margin >= Real(0)) || !std::isfinite(cfg.contact_margin))
+    throw ConfigError("StepConfig.contact_margin: must be finite and >= 0, got " +
+                      num(cfg.contact_margin));
   if (cfg.contact_sweeps < 0)
     throw ConfigError("StepConfig.contact_sweeps: must be >= 0, got " +
                       std::to_string(cfg.contact_sweeps));
@@ -167,6 +200,8 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
     // Host-supplied rigid bodies, contacts and attachments: checked and sized.
     rigid::begin_step(m, s);
   });
+  const bool refresh = cfg.contact_margin > Real(0) && static_cast<bool>(cfg.refresh_contacts);
+  if (refresh) begin_paths(m, s);
   // Opt-in particle-particle collision: candidate pairs within the contact
   // distance plus the step's travel, from a spatial hash (spatial_hash.hpp).
   timed(t, stage::self_collision_search, m.self_collision.enabled,
@@ -191,6 +226,13 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
       interpolate_pin_targets(s, Real(sub + 1) / Real(cfg.substeps));
       // 2. Predict: external forces and inertia; rigid bodies move with their velocity.
       predict(m, s, cfg, h);
+      // Particles that left the path their contacts cover get new ones
+      // from the host (bodies it adds are at this substep's start, as the
+      // others are until predict_bodies below).
+      if (refresh) {
+        const std::size_t contacts = s.contacts.size(), bodies = s.bodies.size();
+        if (refresh_escaped(m, s, cfg, sub, h)) rigid::contacts_added(m, s, contacts, bodies);
+      }
       // After predict: restitution's reference is the normal velocity with
       // this substep's gravity included (Mueller et al. 2020), not before it.
       rigid::begin_substep(m, s);

@@ -12,6 +12,12 @@ namespace xpbd::rigid {
 // index; throws ConfigError naming the bad element.
 void begin_step(const Model& m, State& s);
 
+// After the host appended contacts (from index first_contact) and bodies
+// (from first_body) inside a step (StepConfig::refresh_contacts): checks
+// them as begin_step does and sizes the arrays parallel to them; what the
+// existing ones hold is kept.
+void contacts_added(const Model& m, State& s, std::size_t first_contact, std::size_t first_body);
+
 // Records each contact's relative normal velocity (restitution) and zeroes the
 // multipliers. Call before predict.
 void begin_substep(const Model& m, State& s);

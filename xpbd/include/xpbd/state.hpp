@@ -66,6 +66,12 @@ struct State {
   // world contacts are not counted. Written by step().
   std::vector<Vec3> body_contact_impulse;
   std::vector<Vec3> body_contact_push;  // kg*m, scratch: the current substep's position impulses
+  // StepConfig::refresh_contacts (internal, sized by step() when on): each
+  // particle's path that the contacts cover, x(t) = path_x + (t - path_t) *
+  // path_v for t in the step, and the particles that left it in a substep.
+  std::vector<Vec3> path_x, path_v;
+  std::vector<Real> path_t;
+  std::vector<Index> escaped;
 
   // Particle-particle collision (spatial_hash.hpp): hash and the pairs found
   // at the start of the current step. Empty when the model has it off.

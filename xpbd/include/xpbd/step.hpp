@@ -1,4 +1,7 @@
 #pragma once
+#include <functional>
+#include <span>
+
 #include "xpbd/model.hpp"
 #include "xpbd/profile.hpp"
 #include "xpbd/state.hpp"
@@ -54,6 +57,22 @@ struct StepConfig {
   // docs/design.md, "Heavy on light": why it is not the default.
   int contact_sweeps = 0;
   Real contact_tolerance = Real(0.1);
+  // Contacts that stay complete over the step (off unless both are set).
+  // A host finds State::contacts once per step, for each particle within a
+  // reach of where it starts; they cover the particle while it stays within
+  // contact_margin (m) of the straight path from its start position along
+  // its start velocity. The solve can carry a particle farther than that
+  // (a cloth whipped by its edges into a body it was not near), and then
+  // it has no contact with what it meets. With both set, every substep
+  // checks each movable particle's predicted position against its path
+  // (one pass over the particles) and passes the particles that left it to
+  // refresh_contacts, before the substep's solve, with each such particle
+  // at State::x_prev and moving at State::v. The host may append contacts
+  // for them to State::contacts (kept for the rest of the step) and bodies
+  // to State::bodies (each at its state at the start of this substep). The
+  // path of a passed particle restarts there: x_prev + (t - t_sub) * v.
+  Real contact_margin = 0;
+  std::function<void(std::span<const Index> escaped, int substep)> refresh_contacts;
   // Opt-in per-stage wall-clock breakdown (profile.hpp): when set, step()
   // adds each stage's time to *times. nullptr (default) = no timing. Does not
   // change the result: the trajectory is the same bit for bit.
@@ -63,7 +82,8 @@ struct StepConfig {
 // Advances `state` by cfg.dt:
 //   for each substep: predict, solve (iterations x constraint types), update velocities.
 // Throws ConfigError for an invalid cfg, or if state does not match model.
-// Performs no allocation.
+// Performs no allocation once the state's arrays have their sizes (but for
+// what refresh_contacts adds).
 void step(const Model& model, State& state, const StepConfig& cfg);
 
 // Checks that cfg is valid; throws ConfigError naming the field and value.
