@@ -102,6 +102,12 @@ int XpbdWorld::shadow_for(const btCollisionObject* obj, btScalar dt) {
   return static_cast<int>(shadows_.size() - 1);
 }
 
+bool XpbdWorld::attached(const System& s, const btCollisionObject* obj, Index i) const {
+  return std::any_of(attachments_.begin(), attachments_.end(), [&](const Attachment& a) {
+    return a.system == s.id && a.body == obj && a.particle == i;
+  });
+}
+
 Index XpbdWorld::body_index(System& s, const btCollisionObject* obj, btScalar dt) {
   const int sh = shadow_for(obj, dt);
   for (std::size_t i = 0; i < s.shadow_of_body.size(); ++i)
@@ -351,9 +357,6 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
       const btTransform pose_inv = cand.pose_inv;
       const Vec3 vb = cand.vb;
       const Real ab = cand.ab, wb = cand.wb, extent = cand.extent;
-      const Real mu_s = cs.static_friction * obj->getFriction();
-      const Real mu_d = cs.dynamic_friction * obj->getFriction();
-      const Real e = cs.restitution * obj->getRestitution();
       Index body = -1;
       // A particle attached to this body does not collide with it: the
       // attachment holds it at a point of the body, often on its surface,
@@ -362,47 +365,25 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
       const bool has_attached = std::any_of(attachments_.begin(), attachments_.end(), [&](const Attachment& a) {
         return a.system == s.id && a.body == obj;
       });
-      auto attached_here = [&](Index i) {
-        return std::any_of(attachments_.begin(), attachments_.end(), [&](const Attachment& a) {
-          return a.system == s.id && a.body == obj && a.particle == i;
-        });
-      };
       // The culled pairs of this candidate, or every particle.
       const Index* const listed = sc.particles.data() + (cs.cull ? sc.pair_begin[k] : 0);
       const Index count = cs.cull ? sc.pair_begin[k + 1] - sc.pair_begin[k] : n;
       for (Index j = 0; j < count; ++j) {
         const Index i = cs.cull ? listed[j] : j;
         if (m.inv_mass[i] == Real(0)) continue;  // never in a culled list
-        if (has_attached && attached_here(i)) continue;
+        if (has_attached && attached(s, obj, i)) continue;
         ++stats_.queries;
         const Real thick = m.radius[i] + cs.thickness;
         // The particle's position relative to the body at the start of the
         // step, expressed at the pose Bullet's shape is at.
         const Vec3 x = to_vec(to_pose * to_bt(st.x[i]));
         const Real travel = dt * ((st.v[i] - vb).norm() + ab + wb * extent);
-        const Real reach = thick + cs.margin + travel;
         ParticleContact c;
-        bool hit = false;
-        if (travel > cs.margin) {
-          // Fast relative motion: the first surface crossed on the way wins.
-          Real frac;
-          const Vec3 end = x + dt * (st.v[i] - vb);
-          hit = sweep_point(*obj, x, end, c, frac);
-        }
-        if (!hit) hit = query_point(*obj, x, reach, c);
-        if (!hit) continue;
+        if (!detail::particle_query(*obj, x, dt * (st.v[i] - vb), travel, thick + cs.margin + travel,
+                                    cs.margin, c))
+          continue;
         if (body < 0) body = body_index(s, obj, dt);
-        xpbd::BodyContact bc;
-        bc.particle = i;
-        bc.body = body;
-        bc.r = to_vec(pose_inv * to_bt(c.point));
-        bc.n = to_vec(pose_inv.getBasis() * to_bt(c.normal));
-        bc.thickness = thick;
-        bc.static_friction = mu_s;
-        bc.dynamic_friction = mu_d;
-        bc.restitution = e;
-        bc.compliance = cs.compliance;
-        st.contacts.push_back(bc);
+        st.contacts.push_back(detail::body_contact(cs, *obj, i, body, thick, pose_inv, c));
       }
     }
     stats_.contacts += static_cast<int>(st.contacts.size());
@@ -431,6 +412,12 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
   cfg.contact_tolerance = set.contact_tolerance;
   cfg.gravity = to_vec(world_.getGravity());
   cfg.times = times ? &times->step : nullptr;
+  if (cs.enabled && cs.refresh && cs.margin > Real(0)) {
+    cfg.contact_margin = cs.margin;
+    cfg.refresh_contacts = [this, &s, dt](std::span<const Index> escaped, int sub) {
+      refresh_contacts(s, dt, sub, escaped);
+    };
+  }
   // Bodies moved without any contact: the reference the changes are taken from.
   xpbd::timed(times, SystemTimes::shadows, !st.bodies.empty(), [&] {
     s.free_bodies = st.bodies;

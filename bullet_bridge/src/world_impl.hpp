@@ -11,6 +11,7 @@
 
 #include "pair_culling.hpp"
 #include "xpbd/rigid.hpp"
+#include "xpbd_bullet/narrowphase.hpp"
 #include "xpbd_bullet/world.hpp"
 
 namespace xpbd_bullet {
@@ -48,6 +49,41 @@ inline bool in_world(const btCollisionWorld& w, const btCollisionObject* o) {
   const auto& arr = w.getCollisionObjectArray();
   return i >= 0 && i < arr.size() && arr[i] == o;
 }
+
+namespace detail {
+
+// The narrowphase of one particle against obj: x is the particle at the
+// pose Bullet's shape is at, `motion` its motion relative to the body over
+// the time the contact covers, `travel` a bound on that motion's length.
+// Fast relative motion (travel > margin): the first surface crossed on the
+// way; otherwise (or if none is crossed) the closest surface within reach.
+inline bool particle_query(const btCollisionObject& obj, const Vec3& x, const Vec3& motion, Real travel,
+                           Real reach, Real margin, ParticleContact& c) {
+  Real frac;
+  if (travel > margin && sweep_point(obj, x, x + motion, c, frac)) return true;
+  return query_point(obj, x, reach, c);
+}
+
+// The contact of `particle` with State::bodies[body] (obj) from the
+// narrowphase's c, at the pose `pose_inv` inverts; thick: the particle's
+// radius plus the thickness.
+inline xpbd::BodyContact body_contact(const ContactSettings& cs, const btCollisionObject& obj, Index particle,
+                                      Index body, Real thick, const btTransform& pose_inv,
+                                      const ParticleContact& c) {
+  xpbd::BodyContact bc;
+  bc.particle = particle;
+  bc.body = body;
+  bc.r = to_vec(pose_inv * to_bt(c.point));
+  bc.n = to_vec(pose_inv.getBasis() * to_bt(c.normal));
+  bc.thickness = thick;
+  bc.static_friction = cs.static_friction * obj.getFriction();
+  bc.dynamic_friction = cs.dynamic_friction * obj.getFriction();
+  bc.restitution = cs.restitution * obj.getRestitution();
+  bc.compliance = cs.compliance;
+  return bc;
+}
+
+}  // namespace detail
 
 // One rigid body seen during the current internal step (XpbdWorld::pre_solve,
 // before Bullet's collision detection and solver).

@@ -25,6 +25,10 @@
 //                            (particle, candidate) pair is queried, as before
 //                            the culling existed;
 //   bridge_step/culled       the same with cull = true (the default);
+//   bridge_step/culled_no_refresh  the same with ContactSettings::refresh
+//                            off: the difference is the refresh's per-substep
+//                            pass over the particles (and its queries: the
+//                            summary prints how many particles it passed);
 //   contact_generation/...   the time pre_solve spends finding the
 //                            contacts (XpbdWorld measures it around that
 //                            code: StepStats::contact_seconds, wall clock),
@@ -53,10 +57,11 @@
 
 namespace {
 
-// ContactSettings::cull of system id (settings are replaced as a whole).
-void set_cull(xpbd_bullet::XpbdWorld& xw, xpbd_bullet::SystemId id, bool cull) {
+// ContactSettings::cull and refresh of system id (settings are replaced as a whole).
+void set_cull(xpbd_bullet::XpbdWorld& xw, xpbd_bullet::SystemId id, bool cull, bool refresh = true) {
   xpbd_bullet::SystemSettings s = xw.settings(id);
   s.contacts.cull = cull;
+  s.contacts.refresh = refresh;
   xw.set_settings(id, s);
 }
 
@@ -231,10 +236,11 @@ void BM_xpbd_step(benchmark::State& bs, bool contacts) {
 // XpbdWorld::pre_solve + updateAction: what Bullet calls once per internal step, with
 // ContactSettings::cull on or off. Also reports the contact generation time
 // XpbdWorld measures itself (StepStats::contact_seconds, wall clock).
-void BM_bridge_step(benchmark::State& bs, bool cull) {
+void BM_bridge_step(benchmark::State& bs, bool cull, bool refresh) {
   Scene& s = scene();
-  set_cull(*s.xw, s.id, cull);
+  set_cull(*s.xw, s.id, cull, refresh);
   double ns = 0, generation = 0;
+  long refreshed = 0;
   for (auto _ : bs) {
     s.xw->state(s.id) = s.snapshot;  // restore (untimed): same sizes, no allocation
     const double t0 = thread_seconds();
@@ -245,11 +251,13 @@ void BM_bridge_step(benchmark::State& bs, bool cull) {
     bs.SetIterationTime(dt);
     ns += dt * 1e9;
     generation += s.xw->last_stats().contact_seconds * 1e9;
+    refreshed += s.xw->last_stats().refreshed;
   }
   s.xw->state(s.id) = s.snapshot;
   set_cull(*s.xw, s.id, true);
   finish(bs, ns);
   bs.counters["queries"] = cull ? s.culled.queries : s.brute.queries;
+  bs.counters["refreshed_per_step"] = double(refreshed) / double(bs.iterations());
   bs.counters["generation_ns_per_particle_step"] =
       generation / (double(s.model->num_particles()) * double(bs.iterations()));
 }
@@ -285,6 +293,7 @@ class SummaryReporter : public benchmark::ConsoleReporter {
     const double with = get("xpbd_step/with_contacts");
     const double brute = get("bridge_step/brute_force");
     const double culled = get("bridge_step/culled");
+    const double no_refresh = get("bridge_step/culled_no_refresh");
     if (ref <= 0 || with <= 0) return;
     const Scene& s = scene();
     std::printf("\n64 x 64 cloth over 100 static bodies (fastest particle of the snapshot: %.2f m/s)\n"
@@ -299,6 +308,9 @@ class SummaryReporter : public benchmark::ConsoleReporter {
     row("contact_solve (with - no_contacts)", with - ref);
     if (brute > 0) row("bridge_step/brute_force", brute);
     if (culled > 0) row("bridge_step/culled", culled);
+    if (no_refresh > 0) row("bridge_step/culled_no_refresh", no_refresh);
+    if (culled > 0 && no_refresh > 0)
+      std::printf("bridge step with the contact refresh / without: %.3f\n", culled / no_refresh);
     // Measured inside pre_solve, around the contact search only.
     const double gen_brute = get("bridge_step/brute_force", true);
     const double gen_culled = get("bridge_step/culled", true);
@@ -341,10 +353,13 @@ int main(int argc, char** argv) {
   benchmark::RegisterBenchmark("xpbd_step/with_contacts", BM_xpbd_step, true)
       ->UseManualTime()
       ->Unit(benchmark::kMillisecond);
-  benchmark::RegisterBenchmark("bridge_step/brute_force", BM_bridge_step, false)
+  benchmark::RegisterBenchmark("bridge_step/brute_force", BM_bridge_step, false, true)
       ->UseManualTime()
       ->Unit(benchmark::kMillisecond);
-  benchmark::RegisterBenchmark("bridge_step/culled", BM_bridge_step, true)
+  benchmark::RegisterBenchmark("bridge_step/culled", BM_bridge_step, true, true)
+      ->UseManualTime()
+      ->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("bridge_step/culled_no_refresh", BM_bridge_step, true, false)
       ->UseManualTime()
       ->Unit(benchmark::kMillisecond);
   SummaryReporter reporter;

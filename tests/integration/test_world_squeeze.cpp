@@ -15,10 +15,12 @@
 //
 // Clean, as the issue states it: no particle centre deeper inside a body or
 // below the ground than the contact thickness, no edge stretched more than
-// 20%, and the bar's path measurably changed by the cloth. The heavy-on-light
-// contact solve is not there yet (docs/bullet-bridge.md section 6): the
-// first two are printed, not asserted (docs/bullet-bridge.md section 6,
-// item 6, has the figures).
+// 20%, and the bar's path measurably changed by the cloth. Asserted: the
+// path, and the depth with 0 bodies. Printed only: the depth with 49 bodies
+// (contacts between dynamic bodies are Bullet's alone, after XPBD) and the
+// strain (the cloth whipped by the bar's impact does not converge at one
+// sweep per substep); docs/bullet-bridge.md section 6, item 6, has the
+// figures.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -152,19 +154,23 @@ TEST_P(Squeeze, BarWithClothAmongFallingBodiesAtTheDefaults) {
               bodies, double(with.deepest), double(thickness), double(with.strain), double(path));
   // The cloth (0.4 kg hanging from the 2 kg bar) changes the bar's motion.
   EXPECT_GT(path, Real(0.01));
-  // Measured and printed for both cases; the squeeze under the bar is the
-  // open heavy-on-light problem, so only the finite state is required.
-  EXPECT_LT(with.deepest, Real(1));
+  // With 0 bodies: the bar lands on the cloth standing under it, whose top
+  // rows whip into the bar from 5-10 cm away inside one step. They are
+  // queried again when they leave their paths (ContactSettings::refresh);
+  // before that they went 18.8 mm deep.
+  if (bodies == 0)
+    EXPECT_LE(with.deepest, thickness);
+  else
+    EXPECT_LT(with.deepest, Real(1));
 }
 
 INSTANTIATE_TEST_SUITE_P(Bodies, Squeeze, ::testing::Values(0, 49));
 
 // The same application without the random bodies, with extra sweeps where
 // the contacts need them (SystemSettings::contact_sweeps = 8, the default
-// tolerance 0.1 of the thickness). At the defaults the bar's impact on the
-// cloth standing under it leaves particle centres 18.8 mm inside the bar
-// (printed above); the support reaches the bar through 24 rows of edges and
-// one sweep per substep does not carry it. With the extra sweeps no particle
+// tolerance 0.1 of the thickness). Without the contact refresh (above) the
+// bar's impact left particle centres 18.8 mm inside the bar at the defaults
+// and 0.009 mm with the extra sweeps. With the extra sweeps no particle
 // centre may be deeper than the thickness, and the extra sweeps run only in
 // the substeps that need them: on average fewer than 3 sweeps per substep,
 // where the cap allows 9.

@@ -66,6 +66,7 @@
 #include <ostream>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -104,6 +105,14 @@ struct ContactSettings {
   // queries every (particle, candidate) pair (the brute-force reference for
   // tests and benchmarks).
   bool cull = true;
+  // Keep the contacts complete inside the step (xpbd::StepConfig::
+  // contact_margin): the contacts are found once per Bullet step for each
+  // particle's straight path, margin wide; a particle that the solve
+  // carries off that path (a cloth whipped by its edges into a body it
+  // was not near) is queried again, against the bodies around its rest
+  // of the step, in the substep it leaves it. Costs a pass over the
+  // particles per substep, and the queries of the particles that left.
+  bool refresh = true;
 };
 
 // Opt-in wall-clock breakdown of one system's steps (SystemSettings::times,
@@ -184,6 +193,10 @@ struct StepStats {
   int failed = 0;      // systems whose step failed in this step (error(id) says why)
   int skipped_bodies = 0;  // bodies left out because their pose or velocity is not finite, summed over systems
   int sleeping = 0;        // systems asleep in this step (not stepped)
+  // Particles queried again inside the step (ContactSettings::refresh),
+  // summed over substeps and systems, and the contacts that gave.
+  int refreshed = 0;
+  int refresh_contacts = 0;
 };
 
 // Typed ids: a system's id and an attachment's id cannot be mixed up (nor
@@ -366,6 +379,11 @@ class XpbdWorld : public btActionInterface {
   void add_world_contacts(System& s, btScalar dt);
   // Rigid feature points of the candidates against s's collision triangles.
   void find_triangle_contacts(System& s, btScalar dt, const xpbd::Vec3& lo, const xpbd::Vec3& hi);
+  // Inside the step, at the start of substep `sub`: contacts for the
+  // particles that left the path their contacts cover (world_refresh.cpp).
+  void refresh_contacts(System& s, btScalar dt, int sub, std::span<const xpbd::Index> escaped);
+  // Whether particle i of s is attached to obj.
+  bool attached(const System& s, const btCollisionObject* obj, xpbd::Index i) const;
 
   btDiscreteDynamicsWorld& world_;
   std::vector<std::unique_ptr<System>> systems_;
@@ -380,6 +398,7 @@ class XpbdWorld : public btActionInterface {
   std::vector<SystemId> callback_ids_;  // scratch: systems with a step callback
   // Scratch, reused across steps.
   std::vector<const btCollisionObject*> candidates_;
+  std::vector<const btCollisionObject*> refresh_candidates_;  // refresh_contacts' own
   std::vector<Shadow> shadows_;  // bodies touched in the current internal step
   std::vector<xpbd::Vec3> features_;  // scratch: feature points of one body (body frame)
   std::vector<xpbd::Vec3> tri_lo_, tri_hi_;  // scratch: swept triangle bounds

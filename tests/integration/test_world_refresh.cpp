@@ -1,0 +1,69 @@
+// ContactSettings::refresh (world_refresh.cpp): a particle at rest at the
+// start of a step, with no contact, is yanked by its edge through a static
+// box it was 0.2 m from. Its contacts were searched along its straight path
+// (it was at rest: 1.5 cm around it); the refresh queries it again in the
+// substep it leaves that path, and the box stops it.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "support.hpp"
+#include "xpbd_bullet/narrowphase.hpp"
+
+namespace {
+
+using namespace xpbd_bullet::test;
+using xpbd_bullet::SystemSettings;
+using xpbd_bullet::XpbdWorld;
+
+struct Result {
+  Real deepest = 0;  // m, deepest B centre inside the box over the run
+  Real first_x = 0;  // m, B's x after the first step
+  int refreshed = 0;
+};
+
+// A at (1, 0.85, 0) moving +x at 30 m/s (0.5 m per 60 Hz step), B 1 m
+// behind it at rest, joined by a stiff edge; no gravity. The box spans x in
+// [0.2, 0.3], y in [0.75, 0.95], between them: A moves away from it (and is
+// farther from it than its search reaches), B is dragged into it.
+Result run(bool refresh) {
+  BulletWorld bw(Vec3::Zero());
+  const btRigidBody* box =
+      bw.add_static_box(Vec3(0.05, 0.1, 0.5), BulletWorld::at(Vec3(0.25, 0.85, 0)), 0);
+  XpbdWorld xw(bw.world());
+  xpbd::SceneDesc scene;
+  scene.add_particle(Vec3(1, 0.85, 0), Real(0.1));
+  scene.add_particle(Vec3(0, 0.85, 0), Real(0.1));
+  scene.distances.push_back(xpbd::DistanceDesc{0, 1, std::nullopt, {}});
+  System sys = make_system(scene);
+  sys.state.v[0] = Vec3(30, 0, 0);
+  SystemSettings set;
+  set.contacts.refresh = refresh;
+  const xpbd_bullet::SystemId id = xw.add_system(sys.model, sys.state, set);
+  Result r;
+  for (int f = 0; f < 3; ++f) {
+    bw.step();
+    r.refreshed += xw.last_stats().refreshed;
+    if (f == 0) r.first_x = xw.state(id).x[1].x();
+    xpbd_bullet::ParticleContact pc;
+    if (xpbd_bullet::query_point(*box, xw.state(id).x[1], 0, pc)) r.deepest = std::max(r.deepest, -pc.distance);
+  }
+  return r;
+}
+
+TEST(WorldRefresh, ParticleYankedThroughABoxIsStoppedByIt) {
+  const Result off = run(false), on = run(true);
+  std::printf("B yanked towards a box 0.2 m away: without the refresh %.4g m deep, at x = %.4g m after "
+              "the first step; with it %.4g m deep, at x = %.4g m, %d particle queries again\n",
+              double(off.deepest), double(off.first_x), double(on.deepest), double(on.first_x), on.refreshed);
+  // Without the refresh B ends the first step inside the box.
+  EXPECT_EQ(off.refreshed, 0);
+  EXPECT_GT(off.deepest, Real(0.01));
+  // With it, B stops at the box's face, the contact thickness before it
+  // (x = 0.2 - 0.005 m), and is never inside.
+  EXPECT_GT(on.refreshed, 0);
+  EXPECT_NEAR(on.first_x, Real(0.2) - xpbd_bullet::ContactSettings{}.thickness, Real(1e-4));
+  EXPECT_EQ(on.deepest, Real(0));
+}
+
+}  // namespace
