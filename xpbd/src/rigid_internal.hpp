@@ -39,6 +39,18 @@ inline RigidBody& body_or_world(State& s, Index b) {
   static thread_local RigidBody world;  // inv_mass 0, at the origin, at rest
   return b < 0 ? world : s.bodies[b];
 }
+
+// A world contact's surface point p and normal n now (world frame), and
+// the other body's lever arm ro to p (zero for the static world).
+struct WorldFrame {
+  Vec3 p, n, ro;
+};
+inline WorldFrame world_frame(const State& s, const BodyWorldContact& c) {
+  if (c.other < 0) return WorldFrame{c.p, c.n, Vec3::Zero()};
+  const RigidBody& o = s.bodies[static_cast<std::size_t>(c.other)];
+  const Vec3 ro = o.q * c.p;
+  return WorldFrame{o.x + ro, o.q * c.n, ro};
+}
 inline const RigidBody& body_or_world(const State& s, Index b) {
   static const RigidBody world;
   return b < 0 ? world : s.bodies[b];

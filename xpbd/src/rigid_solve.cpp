@@ -77,6 +77,10 @@ void begin_step(const Model& m, State& s) {
     if (c.body < 0 || c.body >= nb)
       throw ConfigError("state.world_contacts[" + std::to_string(k) + "].body: index " +
                         std::to_string(c.body) + " out of range [0, " + std::to_string(nb) + ")");
+    if (c.other < -1 || c.other >= nb || c.other == c.body)
+      throw ConfigError("state.world_contacts[" + std::to_string(k) + "].other: index " +
+                        std::to_string(c.other) + " out of range [-1, " + std::to_string(nb) +
+                        ") or equal to body");
     if (!c.r.allFinite() || !c.p.allFinite() || !c.n.allFinite() || !std::isfinite(c.friction) ||
         c.friction < Real(0) || std::abs(c.n.norm() - Real(1)) > Real(1e-3))
       throw ConfigError("state.world_contacts[" + std::to_string(k) +
@@ -93,7 +97,8 @@ void begin_step(const Model& m, State& s) {
   for (std::size_t k = 0; k < s.world_contacts.size(); ++k) {
     const BodyWorldContact& c = s.world_contacts[k];
     const RigidBody& b = s.bodies[static_cast<std::size_t>(c.body)];
-    s.world_contact_slack[k] = std::min(c.n.dot(b.x + b.q * c.r - c.p), Real(0));
+    const WorldFrame f = world_frame(s, c);
+    s.world_contact_slack[k] = std::min(f.n.dot(b.x + b.q * c.r - f.p), Real(0));
   }
 }
 
@@ -283,30 +288,41 @@ void solve_world_contacts(State& s) {
       const BodyWorldContact& c = s.world_contacts[k];
       ContactLambda& l = s.world_contact_lambda[k];
       RigidBody& b = s.bodies[static_cast<std::size_t>(c.body)];
+      RigidBody& o = body_or_world(s, c.other);
       const Vec3 rw = b.q * c.r;
-      const Real C = c.n.dot(b.x + rw - c.p) - s.world_contact_slack[k];
+      const WorldFrame f = world_frame(s, c);
+      const Real C = f.n.dot(b.x + rw - f.p) - s.world_contact_slack[k];
       if (C >= Real(0) && l.normal == Real(0)) continue;
-      const Real wn = inv_mass_along(b, rw, c.n);
+      const Real wn = inv_mass_along(b, rw, f.n) + inv_mass_along(o, f.ro, f.n);
       if (!(wn > Real(0))) continue;
       const Real ln = std::max(l.normal - C / wn, Real(0));
       const Real dl = ln - l.normal;
       l.normal = ln;
-      apply_position_impulse(b, rw, dl * c.n);
+      apply_position_impulse(b, rw, dl * f.n);
+      apply_position_impulse(o, f.ro, -dl * f.n);
       // Static friction: undo the point's tangential motion over the substep
-      // while the tangential multiplier stays inside mu * lambda_n.
+      // (relative to the other body's point) while the tangential
+      // multiplier stays inside mu * lambda_n.
       if (c.friction <= Real(0) || l.normal <= Real(0)) continue;
       const Vec3 rw_now = b.q * c.r;
-      const Vec3 moved = (b.x + rw_now) - (b.x_prev + b.q_prev * c.r);
-      const Vec3 dt = moved - c.n.dot(moved) * c.n;
+      Vec3 moved = (b.x + rw_now) - (b.x_prev + b.q_prev * c.r);
+      Vec3 ro_now = Vec3::Zero();
+      if (c.other >= 0) {
+        ro_now = o.q * c.p;
+        moved -= (o.x + ro_now) - (o.x_prev + o.q_prev * c.p);
+      }
+      const Vec3 n = c.other >= 0 ? Vec3(o.q * c.n) : c.n;
+      const Vec3 dt = moved - n.dot(moved) * n;
       const Real len = dt.norm();
       if (!(len > Real(0))) continue;
       const Vec3 t = dt / len;
-      const Real wt = inv_mass_along(b, rw_now, t);
+      const Real wt = inv_mass_along(b, rw_now, t) + inv_mass_along(o, ro_now, t);
       if (!(wt > Real(0))) continue;
       const Real dlt = -len / wt;
       if (std::abs(l.tangent + dlt) > c.friction * l.normal) continue;
       l.tangent += dlt;
       apply_position_impulse(b, rw_now, dlt * t);
+      apply_position_impulse(o, ro_now, -dlt * t);
     }
   }
 }
@@ -318,18 +334,22 @@ void world_contact_velocities(State& s, Real h) {
     const ContactLambda& l = s.world_contact_lambda[k];
     if (l.normal <= Real(0) || c.friction <= Real(0)) continue;
     RigidBody& b = s.bodies[static_cast<std::size_t>(c.body)];
+    RigidBody& o = body_or_world(s, c.other);
     const Vec3 rw = b.q * c.r;
-    const Vec3 v = point_velocity(b, rw);
-    const Vec3 vt = v - c.n.dot(v) * c.n;
+    const WorldFrame f = world_frame(s, c);
+    Vec3 v = point_velocity(b, rw);
+    if (c.other >= 0) v -= point_velocity(o, f.ro);
+    const Vec3 vt = v - f.n.dot(v) * f.n;
     const Real vt_len = vt.norm();
     if (!(vt_len > Real(0))) continue;
     const Vec3 t = vt / vt_len;
-    const Real wt = inv_mass_along(b, rw, t);
+    const Real wt = inv_mass_along(b, rw, t) + inv_mass_along(o, f.ro, t);
     if (!(wt > Real(0))) continue;
     // Dynamic Coulomb friction: at most mu (lambda_n / h) and never
     // reversing the sliding.
     const Real jt = std::min(c.friction * l.normal * inv_h, vt_len / wt);
     apply_velocity_impulse(b, rw, -jt * t);
+    apply_velocity_impulse(o, f.ro, jt * t);
   }
 }
 

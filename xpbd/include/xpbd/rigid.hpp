@@ -82,19 +82,23 @@ struct BodyTriangleContact {
   Real thickness = 0;                // m
 };
 
-// A rigid body resting on (or touching) the static world: a point of the
-// body against a half-space of a static surface, found by the host (the
-// Bullet bridge takes them from Bullet's contact manifolds):
-//   C = n . (X + R r - p) >= 0,  n and p fixed in the world.
+// A rigid body resting on (or touching) the static world or another body:
+// a point of the body against a half-space of the other's surface, found
+// by the host (the Bullet bridge takes them from Bullet's contact
+// manifolds):
+//   C = n . (X + R r - p) >= 0,
+// with n and p fixed in the world (other < 0), or fixed in body `other`
+// (p = X_o + R_o p_o, n = R_o n_o: then `p` and `n` hold p_o and n_o).
 // Solved in every sweep with position-level static friction, so that the
 // body's support is there inside the substeps (a cloth landing on a box
 // lying on the ground pushes it against the ground, not into it).
 struct BodyWorldContact {
   Index body = 0;                  // index into State::bodies (a dynamic body)
   Vec3 r = Vec3::Zero();           // m, the body's contact point, body frame
-  Vec3 p = Vec3::Zero();           // m, the surface point, world frame
-  Vec3 n = Vec3::UnitY();          // unit normal of the surface, out of it, world frame
+  Vec3 p = Vec3::Zero();           // m, the surface point, world frame (other's frame if other >= 0)
+  Vec3 n = Vec3::UnitY();          // unit normal of the surface, out of it, world frame (likewise)
   Real friction = 0;               // mu, static, dimensionless
+  Index other = -1;                // index into State::bodies of the body whose surface it is, or -1
 };
 
 // Per-contact solver values of the current substep.
