@@ -5,6 +5,8 @@
 // project_all<T, damped>() is the entry point step() uses. It runs one of
 //   - project_all_generic(): any type following the eval() convention of
 //     constraints.hpp (arity 1..4, equality or inequality);
+//   - project_dihedral() (solve_dihedral.hpp): the same update written out
+//     for DihedralBending;
 //   - the pair-distance kernel: the same update written out for the types
 //     whose C is a signed distance between two particles (Distance,
 //     Collision, Tether; see PairDistance below). They are most of a cloth's
@@ -26,6 +28,8 @@
 #include <cstddef>
 #include <limits>
 #include <span>
+
+#include <type_traits>
 
 #include "xpbd/constraint_types.hpp"
 #include "xpbd/step.hpp"
@@ -232,10 +236,15 @@ void project_pair_distance(const T* cs, std::size_t n, Real* lambda, const Solve
   }
 }
 
+template <bool kDamped, bool kXpbd>
+void project_dihedral(const DihedralBending* cs, std::size_t n, Real* lambda, const SolveContext& sc);
+
 template <class T, bool kDamped, bool kXpbd>
 void project(const T* cs, std::size_t n, Real* lambda, const SolveContext& sc) {
   if constexpr (PairDistance<T>::value)
     project_pair_distance<T, kDamped, kXpbd>(cs, n, lambda, sc);
+  else if constexpr (std::is_same_v<T, DihedralBending>)
+    project_dihedral<kDamped, kXpbd>(cs, n, lambda, sc);
   else
     project_generic<T, kDamped, kXpbd>(cs, n, lambda, sc);
 }
@@ -288,3 +297,5 @@ void project_all_generic(std::span<const T> cs, std::span<Real> lambda, const So
 }
 
 }  // namespace xpbd
+
+#include "xpbd/solve_dihedral.hpp"  // DihedralBending's kernel (needs the above)
