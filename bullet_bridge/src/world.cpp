@@ -46,6 +46,8 @@ void check_settings(const SystemSettings& s) {
     bad("sleep_speed", "must be finite and >= 0, got " + xpbd::format_value(double(s.sleep_speed)));
   if (!(s.sleep_time > Real(0)) || !std::isfinite(s.sleep_time))
     bad("sleep_time", "must be finite and > 0, got " + xpbd::format_value(double(s.sleep_time)));
+  if (s.workers != nullptr && !s.coloured)
+    bad("workers", "the threads split the coloured sweep; set coloured = true");
 }
 
 // Bullet has no getter for the pre-tick callback; it is a protected member

@@ -408,6 +408,7 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
   cfg.drag = set.drag;
   cfg.alternate_sweeps = set.alternate_sweeps;
   cfg.coloured = set.coloured;
+  cfg.workers = set.workers;
   cfg.contact_sweeps = set.contact_sweeps;
   cfg.contact_tolerance = set.contact_tolerance;
   cfg.gravity = to_vec(world_.getGravity());

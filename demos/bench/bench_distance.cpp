@@ -18,14 +18,27 @@
 //                   over the elements in the order of the model's colour
 //                   schedule (Model::distance_by_colour), so consecutive
 //                   projections share no particle;
+//   stream_sweep/*  one sweep of xpbd::project_stream, what step() runs with
+//                   StepConfig::coloured in XPBD: the same order over the
+//                   compiled stream (distance_stream.hpp), with the widest
+//                   kernel this CPU has (AVX2 here), the particles copied
+//                   in and out included (prepare_stream, which step() runs
+//                   once per step, is not timed);
+//   stream_scalar_sweep/* the same with the scalar kernel (simd = false);
 //   step/*          a full xpbd::step() of the cloth scene, time divided by
 //                   substeps * iterations * constraints (so predict and the
 //                   velocity update are charged to the projections);
-//   step_coloured/* the same with StepConfig::coloured.
+//   step_coloured/* the same with StepConfig::coloured (the stream, AVX2);
+//   step_coloured_scalar/* the same with StepConfig::simd = false;
+//   step_threads2/* step_coloured with StepConfig::workers of 2 threads
+//                   (wall time).
 // At the end the program prints the medians (or single runs), the ratio of
-// the naive sweep to each benchmark, and for the coloured ones
-// the ratio of the array-order benchmark (kernel_sweep or step) to them, all
-// measured in this run, and the number of colours.
+// the naive sweep to each benchmark, for the coloured ones the ratio of the
+// array-order benchmark (kernel_sweep or step) to them, and in the last
+// column the ratio of a second reference: the scalar kernel's time over the
+// vector kernel's (stream_sweep, step_coloured), the single-threaded step's
+// over the threaded one's (step_threads2); all measured in this run, and the
+// number of colours.
 //
 // Snapshot / restore (docs/design.md principle 7): the cloth is warmed up by a few
 // steps of free swinging; that State is the snapshot. Each measured batch
@@ -43,7 +56,9 @@
 #include <utility>
 #include <vector>
 
+#include "xpbd/distance_stream.hpp"
 #include "xpbd/solve.hpp"
+#include "xpbd/workers.hpp"
 #include "xpbd/xpbd.hpp"
 
 namespace {
@@ -220,14 +235,16 @@ SolveContext context(const ClothBench& b, State& s) {
   return sc;
 }
 
-enum class Kernel { dispatch, generic, coloured };
+enum class Kernel { dispatch, generic, coloured, stream, stream_scalar };
 
 void kernel_sweep(const ClothBench& b, State& s, const SolveContext& sc,
                   Kernel kernel = Kernel::dispatch) {
   const std::span<const Distance> cs(b.model.get<Distance>());
   std::span<Real> lambda(s.lambdas<Distance>());
   const bool damped = b.model.has_damping[type_index_v<Distance>];
-  if (kernel == Kernel::coloured) {
+  if (kernel == Kernel::stream || kernel == Kernel::stream_scalar) {
+    project_stream(b.model, s, sc, kernel == Kernel::stream);
+  } else if (kernel == Kernel::coloured) {
     const std::span<const Distance> by_colour(b.model.distance_by_colour);
     const std::span<const Index> order(b.model.distance_colours.order);
     if (damped)
@@ -259,8 +276,10 @@ Agreement kernel_vs_naive(const ClothBench& b, Kernel kernel) {
   s.x = b.sweep_x;
   s.x_prev = b.sweep_x_prev;
   std::fill(s.lambdas<Distance>().begin(), s.lambdas<Distance>().end(), Real(0));
-  kernel_sweep(b, s, context(b, s), kernel);
-  naive::Data d = naive::from(b, kernel == Kernel::coloured);
+  const SolveContext sc = context(b, s);
+  prepare_stream(b.model, s, sc.h);
+  kernel_sweep(b, s, sc, kernel);
+  naive::Data d = naive::from(b, kernel != Kernel::dispatch && kernel != Kernel::generic);
   naive::sweep(d.particles.data(), d.x_prev.data(), d.edges.data(), d.edges.size(),
                b.cfg.dt / Real(b.cfg.substeps));
   Agreement a;
@@ -310,6 +329,8 @@ void BM_kernel_sweep(benchmark::State& bs, Stiffness stiffness, Kernel kernel) {
     std::copy(b.sweep_x.begin(), b.sweep_x.end(), s.x.begin());  // restore (untimed)
     std::copy(b.sweep_x_prev.begin(), b.sweep_x_prev.end(), s.x_prev.begin());
     std::fill(lambda.begin(), lambda.end(), Real(0));
+    if (kernel == Kernel::stream || kernel == Kernel::stream_scalar)
+      prepare_stream(b.model, s, sc.h);  // once per step in step(); zeroes the multipliers
     const auto t0 = Clock::now();
     kernel_sweep(b, s, sc, kernel);
     benchmark::ClobberMemory();
@@ -351,10 +372,13 @@ void BM_naive_sweep(benchmark::State& bs, Stiffness stiffness) {
 // Full step of the cloth scene; every constraint type of the model counts
 // (here: the distances plus the two kinematic pins).
 void BM_step(benchmark::State& bs, Stiffness stiffness, int substeps, int iterations,
-             bool coloured) {
+             bool coloured, int threads, bool simd) {
   const ClothBench& b = cloth(stiffness);
   StepConfig cfg = b.cfg;
   cfg.coloured = coloured;
+  cfg.simd = simd;
+  Workers workers(threads);
+  if (threads > 1) cfg.workers = &workers;
   cfg.substeps = substeps;
   cfg.iterations = iterations;
   State s = b.snapshot;
@@ -395,13 +419,17 @@ void register_all() {
     add("generic_sweep/" + n, benchmark::kMicrosecond, BM_kernel_sweep, s, Kernel::generic);
     add("kernel_sweep/" + n, benchmark::kMicrosecond, BM_kernel_sweep, s, Kernel::dispatch);
     add("coloured_sweep/" + n, benchmark::kMicrosecond, BM_kernel_sweep, s, Kernel::coloured);
+    add("stream_sweep/" + n, benchmark::kMicrosecond, BM_kernel_sweep, s, Kernel::stream);
+    add("stream_scalar_sweep/" + n, benchmark::kMicrosecond, BM_kernel_sweep, s, Kernel::stream_scalar);
   }
   for (Stiffness s : {Stiffness::compliant, Stiffness::rigid}) {
     const std::string n = name(s);
     for (auto [sub, it] : {std::pair{10, 1}, std::pair{1, 10}}) {
       const std::string si = "/substeps:" + std::to_string(sub) + "/iterations:" + std::to_string(it);
-      add("step/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, false);
-      add("step_coloured/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, true);
+      add("step/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, false, 1, true);
+      add("step_coloured/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, true, 1, true);
+      add("step_coloured_scalar/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, true, 1, false);
+      add("step_threads2/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, true, 2, true);
     }
   }
 }
@@ -433,9 +461,11 @@ class SummaryReporter : public benchmark::ConsoleReporter {
     if (results_.empty()) return;
     std::printf("\nns per projection (%s), speed-up over the naive sweep of the same\n"
                 "stiffness, and for coloured runs the array-order run's time over\n"
-                "theirs (kernel_sweep or step, same stiffness and budget), all in this run\n",
+                "theirs (kernel_sweep or step, same stiffness and budget), and the\n"
+                "second reference's (scalar kernel; one thread) over theirs, all in this run\n",
                 any_median() ? "median of repetitions" : "single run");
-    std::printf("%-48s %10s %11s %11s\n", "benchmark", "ns/proj", "naive/this", "array/this");
+    std::printf("%-48s %10s %11s %11s %11s\n", "benchmark", "ns/proj", "naive/this", "array/this",
+                "second/this");
     for (const std::string& n : order_) {
       const double v = results_.at(n).value;
       // "step/rigid/substeps:10/iterations:1" -> "naive_sweep/rigid"
@@ -443,21 +473,32 @@ class SummaryReporter : public benchmark::ConsoleReporter {
       const auto naive = results_.find("naive_sweep/" + n.substr(a, b - a));
       // "step_coloured/rigid/..." -> "step/rigid/...", "coloured_sweep/x" -> "kernel_sweep/x"
       const std::string kind = n.substr(0, a - 1), rest = n.substr(a - 1);
-      std::string array;
-      if (kind == "step_coloured") array = "step" + rest;
-      if (kind == "coloured_sweep") array = "kernel_sweep" + rest;
+      std::string array, second;
+      if (kind == "step_coloured" || kind == "step_coloured_scalar" || kind == "step_threads2")
+        array = "step" + rest;
+      if (kind == "coloured_sweep" || kind == "stream_sweep" || kind == "stream_scalar_sweep")
+        array = "kernel_sweep" + rest;
+      if (kind == "stream_sweep") second = "stream_scalar_sweep" + rest;
+      if (kind == "step_coloured") second = "step_coloured_scalar" + rest;
+      if (kind == "step_threads2") second = "step_coloured" + rest;
       const auto arr = array.empty() ? results_.end() : results_.find(array);
+      const auto sec = second.empty() ? results_.end() : results_.find(second);
       std::printf("%-48s %10.2f", n.c_str(), v);
       if (naive != results_.end())
         std::printf(" %11.2f", naive->second.value / v);
       else
         std::printf(" %11s", "-");
       if (arr != results_.end())
-        std::printf(" %11.2f\n", arr->second.value / v);
+        std::printf(" %11.2f", arr->second.value / v);
+      else
+        std::printf(" %11s", "-");
+      if (sec != results_.end())
+        std::printf(" %11.2f\n", sec->second.value / v);
       else
         std::printf(" %11s\n", "-");
     }
     if (colours_ > 0) std::printf("colours in the cloth's Distance schedule: %.0f\n", colours_);
+    std::printf("stream kernel on this CPU: %s; precision: %s\n", simd_kernel(), sizeof(Real) == 8 ? "double" : "float");
   }
 
  private:

@@ -8,6 +8,7 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "support.hpp"
 
@@ -57,6 +58,10 @@ TEST(WorldSettings, BadSettingsAreRefusedWhereTheyAreSetAndTheOldOnesKept) {
   bad = xw.settings(id);
   bad.contacts.restitution = std::numeric_limits<Real>::quiet_NaN();
   EXPECT_TRUE(names([&] { xw.set_settings(id, bad); }, "contacts.restitution", "nan"));
+  bad = xw.settings(id);
+  xpbd::Workers pool(2);
+  bad.workers = &pool;  // without coloured
+  EXPECT_TRUE(names([&] { xw.set_settings(id, bad); }, "SystemSettings.workers", "coloured"));
   EXPECT_THROW(xw.set_settings(xpbd_bullet::SystemId(42), SystemSettings{}), std::out_of_range);
   // The old settings stay, and the system steps with them.
   EXPECT_EQ(xw.settings(id).iterations, 1);
@@ -64,6 +69,38 @@ TEST(WorldSettings, BadSettingsAreRefusedWhereTheyAreSetAndTheOldOnesKept) {
   bw.step();
   EXPECT_EQ(xw.error(id), "");
   EXPECT_NEAR(xw.state(id).x[0].y(), fallen(10, 1, 10), 1e3 * kEps * 10);
+}
+
+// A 48 x 48 cloth dropped onto a static sphere, coloured, with and without
+// a pool of two threads: the same state bit for bit after 60 steps (the
+// threads only split the colours; StepConfig::workers; its colours hold
+// about 1,100 distance elements, so they are split).
+TEST(WorldSettings, WorkersGiveTheSameClothBitForBit) {
+  std::vector<Vec3> x[2];
+  for (int threaded = 0; threaded < 2; ++threaded) {
+    BulletWorld bw;
+    bw.add_static_sphere(Real(0.3), Vec3(0, 0, 0));
+    XpbdWorld xw(bw.world());
+    xpbd::SceneDesc scene;
+    xpbd::ClothGridDesc c;
+    c.nx = c.ny = 48;
+    c.u = Vec3::UnitX();
+    c.v = Vec3::UnitZ();
+    c.origin = Vec3(-0.5, 0.5, -0.5);
+    xpbd::add_cloth_grid(scene, c);
+    System sys = make_system(scene);
+    xpbd::Workers pool(2);
+    SystemSettings set;
+    set.coloured = true;
+    if (threaded) set.workers = &pool;
+    const auto id = xw.add_system(sys.model, sys.state, set);
+    for (int k = 0; k < 60; ++k) bw.step();
+    EXPECT_EQ(xw.error(id), "");
+    x[threaded] = xw.state(id).x;
+  }
+  ASSERT_EQ(x[0].size(), x[1].size());
+  for (std::size_t i = 0; i < x[0].size(); ++i) EXPECT_EQ(x[0][i], x[1][i]) << "particle " << i;
+  EXPECT_LT(x[0][0].y(), Real(0.4));  // it fell onto the sphere
 }
 
 TEST(WorldSettings, NewSettingsTakeEffectAtTheNextStepKeepingTheId) {

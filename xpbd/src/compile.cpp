@@ -9,6 +9,7 @@
 #include "xpbd/error.hpp"
 #include "xpbd/special_constraints.hpp"
 #include "xpbd/state.hpp"
+#include "stream.hpp"
 
 namespace xpbd {
 namespace {
@@ -467,6 +468,7 @@ Model compile(const SceneDesc& s) {
   m.distance_by_colour.reserve(m.distance_colours.order.size());
   for (Index k : m.distance_colours.order)
     m.distance_by_colour.push_back(m.get<Distance>()[static_cast<std::size_t>(k)]);
+  m.distance_stream = detail::make_distance_stream(m);
   return m;
 }
 

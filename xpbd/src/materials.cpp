@@ -5,6 +5,7 @@
 #include <string>
 
 #include "xpbd/error.hpp"
+#include "stream.hpp"
 
 namespace xpbd::detail {
 namespace {
@@ -35,6 +36,7 @@ void refresh_distance_colours(Model& m) {
   if (m.distance_by_colour.size() != order.size()) return;  // no schedule (not from compile)
   for (std::size_t j = 0; j < order.size(); ++j)
     m.distance_by_colour[j] = d[static_cast<std::size_t>(order[j])];
+  m.distance_stream = make_distance_stream(m);
 }
 
 }  // namespace xpbd::detail

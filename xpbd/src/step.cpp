@@ -1,6 +1,8 @@
 #include "xpbd/step.hpp"
 
+#include <algorithm>
 #include <charconv>
+#include <cstdint>
 #include <cmath>
 #include <string>
 #include <type_traits>
@@ -10,6 +12,7 @@
 #include "xpbd/solve.hpp"
 #include "xpbd/spatial_hash.hpp"
 #include "xpbd/special_constraints.hpp"
+#include "stream.hpp"
 
 namespace xpbd {
 namespace {
@@ -48,7 +51,8 @@ void check_state_matches(const Model& m, const State& s) {
 void check_colours(const Model& m) {
   const ColourSchedule& c = m.distance_colours;
   const std::size_t n = m.get<Distance>().size();
-  if (c.order.size() != n || m.distance_by_colour.size() != n || c.begin.empty() ||
+  if (c.order.size() != n || m.distance_by_colour.size() != n || m.distance_stream.size() != n ||
+      c.begin.empty() ||
       c.begin.front() != 0 || static_cast<std::size_t>(c.begin.back()) != n)
     throw ConfigError("StepConfig.coloured: model.distance_colours covers " +
                       std::to_string(c.order.size()) + " elements, the model has " +
@@ -123,9 +127,11 @@ void reset_multipliers(State& s) {
 
 // One Gauss-Seidel sweep over every constraint type, in ConstraintTypes order
 // (each type with elements is a stage of its own in StepConfig::times).
-// `coloured`: Distance in the order of m.distance_colours (StepConfig::coloured).
-void solve_constraints(const Model& m, State& s, const SolveContext& sc, bool coloured,
+// StepConfig::coloured: Distance in the order of m.distance_colours, with
+// XPBD over the compiled stream (stream.hpp; on cfg.workers when set).
+void solve_constraints(const Model& m, State& s, const SolveContext& sc, const StepConfig& cfg,
                        StageTimes* times) {
+  const bool coloured = cfg.coloured;
   for_each_constraint_type([&]<class T>(std::type_identity<T>) {
     const auto& cs = m.get<T>();
     if (cs.empty()) return;
@@ -136,6 +142,10 @@ void solve_constraints(const Model& m, State& s, const SolveContext& sc, bool co
         std::span<const T> span(cs);
         const bool damped = m.has_damping[type_index_v<T>];
         if constexpr (std::is_same_v<T, Distance>) {
+          if (coloured && sc.method == Method::xpbd) {
+            detail::stream_sweep(m, s, sc, damped, cfg.simd, cfg.workers);
+            return;
+          }
           if (coloured) {
             const std::span<const T> by_colour(m.distance_by_colour);
             const std::span<const Index> order(m.distance_colours.order);
@@ -179,6 +189,8 @@ void validate(const StepConfig& cfg) {
   if (!(cfg.contact_margin >= Real(0)) || !std::isfinite(cfg.contact_margin))
     throw ConfigError("StepConfig.contact_margin: must be finite and >= 0, got " +
                       num(cfg.contact_margin));
+  if (cfg.workers != nullptr && !cfg.coloured)
+    throw ConfigError("StepConfig.workers: the threads split the coloured sweep; set coloured = true");
   if (cfg.contact_sweeps < 0)
     throw ConfigError("StepConfig.contact_sweeps: must be >= 0, got " +
                       std::to_string(cfg.contact_sweeps));
@@ -219,6 +231,9 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
   sc.eval.planes = m.planes.data();
   sc.eval.penetration_side = s.penetration_side.data();
 
+  // The coloured XPBD Distance sweep runs over the compiled stream.
+  const bool stream = cfg.coloured && cfg.method == Method::xpbd && !m.get<Distance>().empty();
+  if (stream) timed(t, stage::step_setup, true, [&] { detail::stream_begin_step(m, s, h, cfg.workers); });
   std::uint64_t sweeps = 0;  // in this step
   for (int sub = 0; sub < cfg.substeps; ++sub) {
     timed(t, stage::predict, true, [&] {
@@ -239,6 +254,7 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
       rigid::predict_bodies(s.bodies, h);
       // Lambda starts at zero every substep (Algorithm 2, line 6).
       reset_multipliers(s);
+      if (stream) detail::stream_begin_substep(s);
     });
     // 3. Solve: `iterations` Gauss-Seidel sweeps over all constraints, then
     // up to `contact_sweeps` more while a contact is violated when the
@@ -258,7 +274,7 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
       // substep, and one substep per step, alternate too), runs last to first.
       sc.reverse = cfg.alternate_sweeps && ((s.sweeps + sweeps) & 1) != 0;
       ++sweeps;
-      solve_constraints(m, s, sc, cfg.coloured, t);
+      solve_constraints(m, s, sc, cfg, t);
       timed(t, stage::self_collision_solve, !s.self_collision.pairs.empty(),
             [&] { solve_self_collisions(m, s, sc); });
       timed(t, stage::body_attachments, !s.attachments.empty(),
@@ -288,6 +304,7 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
     timed(t, stage::contact_velocities, !s.world_contacts.empty(),
           [&] { rigid::world_contact_velocities(s, h); });
   }
+  if (stream) detail::stream_end_step(m, s);
   s.pin_target_prev = s.pin_target;  // same size: no allocation
   s.sweeps += sweeps;
   s.time += cfg.dt;

@@ -76,6 +76,7 @@
 #include "xpbd/raycast.hpp"
 #include "xpbd/state.hpp"
 #include "xpbd/step.hpp"
+#include "xpbd/workers.hpp"
 
 namespace xpbd_bullet {
 
@@ -148,6 +149,10 @@ struct SystemSettings {
   xpbd::Real drag = 0;  // 1/s
   bool alternate_sweeps = false;  // xpbd::StepConfig::alternate_sweeps
   bool coloured = false;          // xpbd::StepConfig::coloured
+  // Threads for the coloured sweep (xpbd::StepConfig::workers; needs
+  // coloured): a pool the application owns and keeps alive while the
+  // system steps; one pool can serve every system (they step in turn).
+  xpbd::Workers* workers = nullptr;
   // Extra sweeps where contacts need them (xpbd::StepConfig::contact_sweeps,
   // >= 0; 0 = off): e.g. 8 for a heavy body landing on cloth that supports
   // it through its own edges (docs/design.md, "Heavy on light").

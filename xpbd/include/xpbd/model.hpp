@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "xpbd/constraint_types.hpp"
+#include "xpbd/distance_stream.hpp"
 #include "xpbd/spatial_hash.hpp"
 #include "xpbd/types.hpp"
 
@@ -58,6 +59,8 @@ struct Model {
   // Used by StepConfig::coloured.
   ColourSchedule distance_colours;
   std::vector<Distance> distance_by_colour;
+  // The same elements compiled for the XPBD kernel (distance_stream.hpp).
+  DistanceStream distance_stream;
 
   // Opt-in particle-particle collision (spatial_hash.hpp); empty when off.
   SelfCollisionModel self_collision;

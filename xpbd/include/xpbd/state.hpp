@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "xpbd/aligned.hpp"
 #include "xpbd/constraint_types.hpp"
 #include "xpbd/rigid.hpp"
 #include "xpbd/spatial_hash.hpp"
@@ -72,6 +73,16 @@ struct State {
   std::vector<Vec3> path_x, path_v;
   std::vector<Real> path_t;
   std::vector<Index> escaped;
+
+  // The coloured XPBD Distance sweep's scratch (distance_stream.hpp,
+  // internal, sized by step()): particle records (x, y, z, 1/m), of the
+  // substep's start too when some element is damped, the multipliers in
+  // stream order (copied to lambda at the end of every step), and per
+  // element the factors that are constant over a step: compliance/h^2,
+  // 1/denominator, compliance*damping/h.
+  AlignedVector<Real> stream_x, stream_x_prev;
+  std::vector<Real> stream_lambda;
+  std::vector<Real> stream_at, stream_inv_den, stream_gamma;
 
   // Particle-particle collision (spatial_hash.hpp): hash and the pairs found
   // at the start of the current step. Empty when the model has it off.

@@ -8,6 +8,8 @@
 
 namespace xpbd {
 
+class Workers;
+
 enum class Method {
   xpbd,  // Algorithm 2 of the seed report: compliance alpha, lambda reset per substep
   pbd,   // Algorithm 1: stiffness k in [0, 1], iteration-dependent by design
@@ -34,18 +36,37 @@ struct StepConfig {
   // Coloured sweep of the Distance elements: they are projected in the order
   // of Model::distance_colours (model.hpp: colour by colour, no two elements
   // of a colour sharing a particle, so consecutive projections do not wait
-  // for each other; solve.hpp, project_all_coloured). Off by default. Every
+  // for each other). With XPBD the elements are read from their compiled
+  // form, Model::distance_stream (distance_stream.hpp), by a vector kernel
+  // where the CPU has one (see simd); PBD runs the scalar kernel over
+  // Model::distance_by_colour (solve.hpp, project_all_coloured), on the
+  // calling thread. Off by default. Every
   // other type keeps the array order. This is a different Gauss-Seidel
   // order, so the result differs from the array order's (both converge to
   // the same solution, at different rates). With alternate_sweeps, the
   // reversed sweeps visit the colours last to first. Measured on the
   // 64 x 64 hanging cloth (docs/benchmarks.md, "Coloured sweep"): 12
-  // colours, a sweep or step 1.26-1.42x as fast as in array order; per
-  // sweep it converges less (mean strain 1.3-1.7x the array order's at the
-  // same budget); at equal cost per frame it was more accurate from about
-  // 4 ms per frame up (position error 11-27% lower, strain 3-28% lower) and
-  // less accurate below (strain about 0.023 against 0.017 at 2.6 ms).
+  // colours; with the AVX2 kernel an XPBD step is 2.1-2.4x (double) and
+  // 2.6-3.1x (float) as fast as in array order; per sweep it converges
+  // less (mean strain 1.3-1.7x the array order's at the same budget). With
+  // the earlier scalar coloured kernel (1.3x), at equal cost per frame it
+  // was more accurate from about 4 ms per frame up and less accurate below
+  // (strain about 0.023 against 0.017 at 2.6 ms); not measured again since.
   bool coloured = false;
+  // The coloured XPBD sweep runs the widest kernel this CPU has
+  // (simd_kernel(): AVX2 or scalar). Off = the scalar kernel. The two give
+  // the same results bit for bit; this exists to measure one against the
+  // other.
+  bool simd = true;
+  // Threads for the coloured XPBD Distance sweep (workers.hpp; needs
+  // coloured, nullptr = the calling thread only). Each colour's elements are
+  // split over the pool's threads, the colours in turn, and so is the copy
+  // of the particles in and out of the stream: the result is bit for bit
+  // the single-threaded coloured sweep's. Pieces below 512 elements run on
+  // the calling thread. Every other stage (the other constraint types,
+  // contacts, prediction) and PBD's coloured sweep stay on the calling
+  // thread.
+  Workers* workers = nullptr;
   // Extra sweeps where contacts need them (off by default): after the
   // `iterations` sweeps of a substep, another sweep runs while some body or
   // triangle contact is violated by more than contact_tolerance times its

@@ -1,0 +1,216 @@
+// The compiled coloured Distance sweep (distance_stream.hpp): what step()
+// runs with StepConfig::coloured in XPBD.
+//   - Model::distance_stream holds the elements of distance_colours.order,
+//     and follows set_material;
+//   - one sweep of the stream kernel computes what the pair-distance kernel
+//     computes over the same elements in the same order (solve.hpp,
+//     project_all_coloured), to round-off: undamped, damped, reversed, with
+//     pinned particles;
+//   - the AVX2 and the scalar kernel give the same results bit for bit over
+//     30 steps of a falling cloth (skipped on a CPU without AVX2);
+//   - the multipliers come back to their elements: a hanging rope's top
+//     link carries the weight below it.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+#include <span>
+#include <vector>
+
+#include "support/xpbd_test.hpp"
+#include "xpbd/distance_stream.hpp"
+#include "xpbd/solve.hpp"
+
+namespace xpbd {
+namespace {
+
+using test::kEps;
+
+Model cloth(int n, Real damping) {
+  SceneDesc d;
+  ClothGridDesc g;
+  g.nx = g.ny = n;
+  g.pins = ClothPins::top_corners;
+  g.u = Vec3::UnitX();
+  g.v = Vec3::UnitZ();
+  g.stretch.compliance = Real(1e-6);
+  g.stretch.damping = damping;
+  add_cloth_grid(d, g);
+  return compile(d);
+}
+
+TEST(DistanceStream, HoldsTheColouredElementsAndFollowsSetMaterial) {
+  Model m = cloth(12, 0);
+  Material soft;
+  soft.compliance = Real(3e-4);
+  soft.damping = Real(0.5);
+  set_material<Distance>(m, 10, 40, soft);
+  const DistanceStream& ds = m.distance_stream;
+  const auto& order = m.distance_colours.order;
+  ASSERT_EQ(ds.size(), order.size());
+  ASSERT_EQ(ds.size(), m.get<Distance>().size());
+  int soft_seen = 0;
+  for (std::size_t j = 0; j < ds.size(); ++j) {
+    const Distance& c = m.get<Distance>()[std::size_t(order[j])];
+    EXPECT_EQ(ds.a[j], c.p[0]) << j;
+    EXPECT_EQ(ds.b[j], c.p[1]) << j;
+    EXPECT_EQ(ds.rest[j], c.rest) << j;
+    EXPECT_EQ(ds.compliance[j], c.mat.compliance) << j;
+    EXPECT_EQ(ds.damping[j], c.mat.damping) << j;
+    soft_seen += ds.compliance[j] == soft.compliance;
+  }
+  EXPECT_EQ(soft_seen, 40);
+}
+
+TEST(DistanceStream, UnpreparedStateAndBadSubstepAreNamed) {
+  const Model m = cloth(6, 0);
+  State s = make_state(m);
+  SolveContext sc;
+  sc.h = Real(0.01);
+  sc.x = s.x.data();
+  sc.inv_mass = m.inv_mass.data();
+  try {
+    project_stream(m, s, sc, true);
+    ADD_FAILURE() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("prepare_stream"), std::string::npos) << e.what();
+  }
+  try {
+    prepare_stream(m, s, Real(-1));
+    ADD_FAILURE() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("h must be"), std::string::npos) << e.what();
+  }
+  prepare_stream(m, s, sc.h);
+  EXPECT_NO_THROW(project_stream(m, s, sc, true));
+}
+
+// One sweep from a perturbed state: the stream kernel against the
+// pair-distance kernel over distance_by_colour.
+void check_one_sweep(Real damping, bool reverse, bool simd) {
+  const Model m = cloth(24, damping);
+  State a = make_state(m);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<Real> u(Real(-0.01), Real(0.01));
+  for (std::size_t i = 0; i < a.x.size(); ++i) {
+    a.x_prev[i] = a.x[i];
+    a.x[i] += Vec3(u(rng), u(rng), u(rng));
+  }
+  State b = a;
+  SolveContext sc;
+  sc.h = Real(1) / 600;
+  sc.inv_mass = m.inv_mass.data();
+  sc.reverse = reverse;
+  sc.x = a.x.data();
+  sc.x_prev = a.x_prev.data();
+  sc.eval.x = a.x.data();
+  const std::span<const Distance> by_colour(m.distance_by_colour);
+  const std::span<const Index> order(m.distance_colours.order);
+  if (damping > 0)
+    project_all_coloured<Distance, true>(by_colour, order, std::span<Real>(a.lambdas<Distance>()), sc);
+  else
+    project_all_coloured<Distance, false>(by_colour, order, std::span<Real>(a.lambdas<Distance>()), sc);
+  sc.x = b.x.data();
+  sc.x_prev = b.x_prev.data();
+  sc.eval.x = b.x.data();
+  prepare_stream(m, b, sc.h);
+  project_stream(m, b, sc, simd);
+
+  Real moved = 0, worst = 0, lam_scale = 0, worst_lam = 0;
+  for (std::size_t i = 0; i < a.x.size(); ++i) {
+    moved = std::max(moved, (a.x[i] - a.x_prev[i]).norm());
+    worst = std::max(worst, (a.x[i] - b.x[i]).norm());
+  }
+  for (std::size_t j = 0; j < order.size(); ++j) {
+    const Real la = a.lambdas<Distance>()[std::size_t(order[j])];
+    lam_scale = std::max(lam_scale, std::abs(la));
+    worst_lam = std::max(worst_lam, std::abs(la - b.stream_lambda[j]));
+  }
+  EXPECT_GT(lam_scale, Real(0));
+  // Round-off only: positions of order 1 m, a few operations per element.
+  EXPECT_LE(worst, 64 * kEps) << "damping " << damping << " reverse " << reverse;
+  EXPECT_LE(worst_lam, 1e3 * kEps * lam_scale) << "damping " << damping << " reverse " << reverse;
+  EXPECT_GT(moved, Real(0.001));
+}
+
+TEST(DistanceStream, OneSweepIsThePairDistanceKernelsToRoundOff) {
+  for (bool simd : {false, true}) {
+    check_one_sweep(0, false, simd);
+    check_one_sweep(0, true, simd);
+    check_one_sweep(Real(2), false, simd);
+    check_one_sweep(Real(2), true, simd);
+  }
+}
+
+bool same_bits(const Vec3& p, const Vec3& q) { return std::memcmp(p.data(), q.data(), sizeof(Real) * 3) == 0; }
+
+TEST(DistanceStream, VectorAndScalarKernelsGiveTheSameBits) {
+  if (std::string(simd_kernel()) == "scalar") GTEST_SKIP() << "this CPU has no AVX2 kernel";
+  for (Real damping : {Real(0), Real(2)}) {
+    const Model m = cloth(48, damping);
+    State vec = make_state(m);
+    // A zero-length edge (particles 1 and 2 on top of each other): left alone by both kernels.
+    vec.x[2] = vec.x[1];
+    State sca = vec;
+    StepConfig cfg;
+    cfg.coloured = true;
+    cfg.alternate_sweeps = true;
+    cfg.iterations = 2;
+    StepConfig scalar = cfg;
+    scalar.simd = false;
+    for (int k = 0; k < 30; ++k) {
+      step(m, vec, cfg);
+      step(m, sca, scalar);
+    }
+    Real moved = 0;
+    int differ = 0;
+    for (std::size_t i = 0; i < vec.x.size(); ++i) {
+      differ += !same_bits(vec.x[i], sca.x[i]) || !same_bits(vec.v[i], sca.v[i]);
+      moved = std::max(moved, (vec.x[i] - m.x0[i]).norm());
+      ASSERT_TRUE(vec.x[i].allFinite()) << i;
+    }
+    EXPECT_EQ(differ, 0) << "damping " << damping;
+    EXPECT_EQ(std::memcmp(vec.lambdas<Distance>().data(), sca.lambdas<Distance>().data(),
+                          sizeof(Real) * vec.lambdas<Distance>().size()),
+              0);
+    EXPECT_GT(moved, Real(0.1));
+  }
+}
+
+// A rope of 11 particles hanging from its pinned first one, settled with
+// many iterations: the link at the pin carries the weight of the 10
+// particles below it, |lambda| / h^2 = sum m g (within 1%). Read from
+// State::lambda, which step() fills from the stream multipliers.
+TEST(DistanceStream, MultipliersComeBackToTheirElements) {
+  SceneDesc d;
+  RopeDesc r;
+  r.n = 11;
+  r.spacing = Real(0.1);
+  r.mass = Real(0.2);
+  r.mat.compliance = Real(1e-7);
+  r.mat.damping = Real(0.1);
+  add_rope(d, r);
+  const Model m = compile(d);
+  State s = make_state(m);
+  StepConfig cfg;
+  cfg.coloured = true;
+  cfg.substeps = 4;
+  cfg.iterations = 40;
+  cfg.dt = Real(1) / 60;
+  for (int k = 0; k < 300; ++k) step(m, s, cfg);
+  Real below = 0;
+  for (Real w : m.inv_mass)
+    if (w > 0) below += 1 / w;
+  const Real g = cfg.gravity.norm(), h = s.last_substep;
+  const auto& links = m.get<Distance>();
+  for (std::size_t k = 0; k < links.size(); ++k) {
+    // Link k carries the particles k + 1 .. 10.
+    const Real carried = below * Real(10 - k) / 10;
+    EXPECT_NEAR(std::abs(s.lambdas<Distance>()[k]) / (h * h), carried * g, Real(0.01) * carried * g)
+        << "link " << k;
+  }
+}
+
+}  // namespace
+}  // namespace xpbd

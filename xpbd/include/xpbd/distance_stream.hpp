@@ -1,0 +1,60 @@
+#pragma once
+// The compiled form of the coloured Distance sweep (StepConfig::coloured,
+// XPBD): what the kernel reads per element and nothing else, in the order
+// of Model::distance_colours, as parallel arrays (structure of arrays), so
+// that a vector kernel loads the data of 4 or 8 consecutive elements of a
+// colour with one instruction each. A Distance element is 40 bytes in
+// double (its whole Material); its stream entry is 32 (two particle
+// indices, rest length, compliance, damping), and the kernel reads the
+// damping only when some element has it.
+//
+// The particles the kernel reads are records (x, y, z, 1/m) in
+// State::stream_x, copied from State::x before the Distance stage of a
+// sweep and back after it; the multipliers are in State::stream_lambda, in
+// stream order, copied to State::lambda at the end of every step. What does
+// not change within a step (compliance/h^2, the inverse of each element's
+// denominator, compliance*damping/h) is computed once per step, so a sweep
+// divides only once per element (1/|d|^2, beside the square root).
+//
+// step() runs the widest kernel this CPU has (simd_kernel()): AVX2 when
+// the library was built for x86-64 and the CPU reports AVX2, the scalar
+// kernel otherwise (or with StepConfig::simd = false). Both do the same
+// floating-point operations in the same order on every element, without
+// fused multiply-adds, so they give the same results bit for bit
+// (tests/unit/test_distance_stream.cpp).
+#include <vector>
+
+#include "xpbd/types.hpp"
+
+namespace xpbd {
+
+struct Model;
+struct State;
+struct SolveContext;
+class Workers;
+
+struct DistanceStream {
+  std::vector<Index> a, b;        // particles of element order[j]
+  std::vector<Real> rest;         // m
+  std::vector<Real> compliance;   // m/N
+  std::vector<Real> damping;      // s (Material::damping)
+
+  std::size_t size() const { return a.size(); }
+};
+
+// One sweep of m's Distance elements over the stream, colour by colour
+// (last to first for sc.reverse), as step() runs it with coloured XPBD:
+// the widest kernel if `simd`, else the scalar one; over `workers` when
+// given. prepare_stream must have been called for this model, state and
+// substep h (step() does at the start of every step); it also zeroes the
+// multipliers, s.stream_lambda[j] for element m.distance_colours.order[j].
+// Throws ConfigError if the state is not prepared, or h is not > 0.
+void prepare_stream(const Model& m, State& s, Real h, Workers* workers = nullptr);
+void project_stream(const Model& m, State& s, const SolveContext& sc, bool simd,
+                    Workers* workers = nullptr);
+
+// "avx2" or "scalar": the kernel step() runs for the coloured XPBD sweep
+// with StepConfig::simd on, on this CPU with this build.
+const char* simd_kernel();
+
+}  // namespace xpbd

@@ -1,0 +1,54 @@
+#pragma once
+// A small pool of persistent threads for the coloured sweep
+// (StepConfig::workers). The elements of one colour share no particle, so
+// any split of a colour across threads projects exactly what one thread
+// would: the result is bit for bit the single-threaded coloured sweep's,
+// whatever the number of threads (tests/unit/test_workers.cpp).
+//
+// run(tasks, f) calls f(t) once for every t in [0, tasks), spread over the
+// calling thread and the helpers, and returns when all calls have returned.
+// Helpers wait for work polling (up to 100,000 polls, so that the next
+// colour and the next substep find them awake), then blocked
+// (std::atomic::wait): a pool left idle stops using CPU. With 4,000 polls
+// the two-thread step was 0.82-1.40 times the one-thread step; with
+// 100,000, 1.48-1.77 (docs/benchmarks.md, "Threads"). One Workers serves one step() at a time; it
+// is not itself thread-safe. An exception thrown by f is rethrown by run()
+// (the first one), after every task has finished.
+#include <atomic>
+#include <cstdint>
+#include <exception>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace xpbd {
+
+class Workers {
+ public:
+  // threads >= 1: the calling thread plus threads - 1 helpers. Throws
+  // ConfigError for threads < 1.
+  explicit Workers(int threads);
+  ~Workers();
+  Workers(const Workers&) = delete;
+  Workers& operator=(const Workers&) = delete;
+
+  int threads() const { return static_cast<int>(helpers_.size()) + 1; }
+  void run(int tasks, const std::function<void(int)>& f);
+
+ private:
+  void helper_loop();
+  void work();  // takes tasks of the current job until none is left
+
+  std::vector<std::thread> helpers_;
+  std::atomic<std::uint64_t> generation_{0};  // bumped for every job (and at shutdown)
+  std::atomic<int> next_{0};                  // next task index of the current job
+  std::atomic<int> busy_{0};                  // helpers still inside the current job
+  int tasks_ = 0;
+  const std::function<void(int)>* job_ = nullptr;
+  bool stop_ = false;
+  std::mutex error_mutex_;
+  std::exception_ptr error_;
+};
+
+}  // namespace xpbd

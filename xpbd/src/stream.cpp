@@ -1,0 +1,180 @@
+#include "stream.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <cstdint>
+#include <functional>
+
+#include "stream_kernel.hpp"
+#include "xpbd/error.hpp"
+#include "xpbd/distance_stream.hpp"
+#include "xpbd/workers.hpp"
+
+namespace xpbd {
+namespace detail {
+
+void project_stream_scalar(const StreamArgs& s, std::size_t lo, std::size_t hi, bool damped) {
+  if (damped)
+    project_stream_range<ScalarLane, true>(s, lo, hi);
+  else
+    project_stream_range<ScalarLane, false>(s, lo, hi);
+}
+
+namespace {
+
+using Kernel = void (*)(const StreamArgs&, std::size_t, std::size_t, bool);
+
+bool cpu_has_avx2() {
+#if XPBD_HAVE_AVX2_KERNEL
+  static const bool has = __builtin_cpu_supports("avx2") != 0;
+  return has;
+#else
+  return false;
+#endif
+}
+
+Kernel kernel(bool simd) {
+#if XPBD_HAVE_AVX2_KERNEL
+  if (simd && cpu_has_avx2()) return &project_stream_avx2;
+#endif
+  (void)simd;
+  return &project_stream_scalar;
+}
+
+// Calls f(lo, hi) over [0, n) in `tasks` contiguous pieces whose bounds are
+// multiples of `align` (so that vector batches stay whole), on the workers
+// when there are several.
+constexpr std::size_t kMinPerTask = 256;
+
+template <class F>
+void split(Workers* w, std::size_t n, std::size_t align, F&& f) {
+  int tasks = 1;
+  if (w != nullptr && n >= 2 * kMinPerTask) tasks = std::min(w->threads(), static_cast<int>(n / kMinPerTask));
+  if (tasks <= 1) {
+    f(0, n);
+    return;
+  }
+  auto bound = [&](int t) {
+    if (t == tasks) return n;
+    const std::size_t b = n * static_cast<std::size_t>(t) / static_cast<std::size_t>(tasks);
+    return b - b % align;
+  };
+  auto task = [&](int t) { f(bound(t), bound(t + 1)); };
+  w->run(tasks, std::ref(task));  // std::ref: no allocation
+}
+
+void pack(const std::vector<Vec3>& x, const std::vector<Real>& inv_mass, Real* out, std::size_t lo,
+          std::size_t hi) {
+  for (std::size_t i = lo; i < hi; ++i) {
+    Real* r = out + 4 * i;
+    r[0] = x[i].x(), r[1] = x[i].y(), r[2] = x[i].z(), r[3] = inv_mass[i];
+  }
+}
+
+}  // namespace
+
+void stream_begin_step(const Model& m, State& s, Real h, Workers* workers) {
+  const std::size_t n4 = 4 * static_cast<std::size_t>(m.num_particles());
+  const std::size_t e = m.distance_stream.size();
+  const bool damped = m.has_damping[type_index_v<Distance>];
+  if (s.stream_x.size() != n4) s.stream_x.assign(n4, Real(0));
+  if (damped && s.stream_x_prev.size() != n4) s.stream_x_prev.assign(n4, Real(0));
+  s.stream_at.resize(e);
+  s.stream_inv_den.resize(e);
+  s.stream_gamma.resize(damped ? e : 0);
+  s.stream_lambda.resize(e);
+  const DistanceStream& ds = m.distance_stream;
+  split(workers, e, 1, [&](std::size_t lo, std::size_t hi) {
+    prepare_stream_range(ds.a.data(), ds.b.data(), ds.compliance.data(), ds.damping.data(), m.inv_mass.data(), h,
+                         damped, s.stream_at.data(), s.stream_inv_den.data(), s.stream_gamma.data(), lo, hi);
+  });
+}
+
+void stream_begin_substep(State& s) { std::fill(s.stream_lambda.begin(), s.stream_lambda.end(), Real(0)); }
+
+void stream_sweep(const Model& m, State& s, const SolveContext& sc, bool damped, bool simd,
+                  Workers* workers) {
+  const std::size_t n = static_cast<std::size_t>(m.num_particles());
+  const DistanceStream& ds = m.distance_stream;
+  Real* const px = s.stream_x.data();
+  Real* const pprev = damped ? s.stream_x_prev.data() : nullptr;
+  split(workers, n, 1, [&](std::size_t lo, std::size_t hi) {
+    pack(s.x, m.inv_mass, px, lo, hi);
+    if (damped) pack(s.x_prev, m.inv_mass, pprev, lo, hi);
+  });
+
+  StreamArgs a;
+  a.a = ds.a.data();
+  a.b = ds.b.data();
+  a.rest = ds.rest.data();
+  a.at = s.stream_at.data();
+  a.inv_den = s.stream_inv_den.data();
+  a.gamma = s.stream_gamma.data();
+  a.lambda = s.stream_lambda.data();
+  a.x = px;
+  a.x_prev = pprev;
+  const Kernel k = kernel(simd);
+  const ColourSchedule& cs = m.distance_colours;
+  const Index colours = cs.num_colours();
+  for (Index j = 0; j < colours; ++j) {
+    const auto c = static_cast<std::size_t>(sc.reverse ? colours - 1 - j : j);
+    const auto b = static_cast<std::size_t>(cs.begin[c]), e = static_cast<std::size_t>(cs.begin[c + 1]);
+    split(workers, e - b, 8, [&](std::size_t lo, std::size_t hi) { k(a, b + lo, b + hi, damped); });
+  }
+
+  split(workers, n, 1, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t i = lo; i < hi; ++i) {
+      const Real* r = px + 4 * i;
+      s.x[i] = Vec3(r[0], r[1], r[2]);
+    }
+  });
+}
+
+void stream_end_step(const Model& m, State& s) {
+  std::vector<Real>& lambda = s.lambdas<Distance>();
+  const auto& order = m.distance_colours.order;
+  for (std::size_t j = 0; j < order.size(); ++j)
+    lambda[static_cast<std::size_t>(order[j])] = s.stream_lambda[j];
+}
+
+DistanceStream make_distance_stream(const Model& m) {
+  DistanceStream ds;
+  const auto& d = m.get<Distance>();
+  const auto& order = m.distance_colours.order;
+  const std::size_t n = order.size();
+  ds.a.resize(n), ds.b.resize(n), ds.rest.resize(n), ds.compliance.resize(n), ds.damping.resize(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    const Distance& c = d[static_cast<std::size_t>(order[j])];
+    ds.a[j] = c.p[0], ds.b[j] = c.p[1], ds.rest[j] = c.rest;
+    ds.compliance[j] = c.mat.compliance, ds.damping[j] = c.mat.damping;
+  }
+  return ds;
+}
+
+}  // namespace detail
+
+void prepare_stream(const Model& m, State& s, Real h, Workers* workers) {
+  if (!(h > Real(0)) || !std::isfinite(h))
+    throw ConfigError("prepare_stream: h must be finite and > 0, got " + std::to_string(h));
+  if (m.distance_stream.size() != m.get<Distance>().size())
+    throw ConfigError("prepare_stream: model.distance_stream covers " + std::to_string(m.distance_stream.size()) +
+                      " elements, the model has " + std::to_string(m.get<Distance>().size()) +
+                      " Distance elements (use compile)");
+  detail::stream_begin_step(m, s, h, workers);
+  detail::stream_begin_substep(s);
+}
+
+void project_stream(const Model& m, State& s, const SolveContext& sc, bool simd, Workers* workers) {
+  const std::size_t e = m.distance_stream.size();
+  const bool damped = m.has_damping[type_index_v<Distance>];
+  if (s.stream_inv_den.size() != e || s.stream_lambda.size() != e ||
+      s.stream_x.size() != 4 * static_cast<std::size_t>(m.num_particles()) ||
+      (damped && s.stream_gamma.size() != e))
+    throw ConfigError("project_stream: the state's stream is not prepared for this model (call prepare_stream)");
+  detail::stream_sweep(m, s, sc, damped, simd, workers);
+}
+
+const char* simd_kernel() { return detail::cpu_has_avx2() ? "avx2" : "scalar"; }
+
+}  // namespace xpbd

@@ -1,0 +1,158 @@
+#pragma once
+// The coloured XPBD Distance kernel over a DistanceStream
+// (distance_stream.hpp), written once for any lane type V: the scalar
+// kernel (ScalarLane below, one element at a time) and the AVX2 kernel
+// (stream_avx2.cpp, 8 floats or 4 doubles at a time) instantiate it.
+//
+// Per element, with w the inverse masses, d = x_a - x_b, L = |d| (the
+// update of project_pair_distance in solve.hpp, sign +1):
+//   at = compliance / h^2, gamma = compliance * damping / h,
+//   den = (w_a + w_b) + at [+ gamma (w_a + w_b)],
+//   num = (rest - at lambda) - L [- (gamma / L) d.((x_a - p_a) - (x_b - p_b))],
+//   dl = num / den, lambda += dl, x_a += dl w_a / L d, x_b -= dl w_b / L d,
+// the element left alone where den <= 0 or L <= kDegenerateRel * rest.
+// at, gamma and 1/den do not change within a step: prepare_stream computes
+// them once per step (the division included), the sweeps read them.
+// Every lane type does these operations in this order, and none fuses a
+// multiply and an add (the files are built with -ffp-contract=off), so
+// every lane type gives the same bits.
+#include <cmath>
+#include <cstddef>
+#include <limits>
+
+#include "xpbd/types.hpp"
+
+namespace xpbd::detail {
+
+struct StreamArgs {
+  const Index* a = nullptr;
+  const Index* b = nullptr;
+  const Real* rest = nullptr;
+  const Real* at = nullptr;       // compliance / h^2
+  const Real* inv_den = nullptr;  // 1 / den, 0 where den <= 0 (left alone)
+  const Real* gamma = nullptr;    // compliance * damping / h (damped only)
+  Real* lambda = nullptr;         // stream order
+  Real* x = nullptr;              // particle records (x, y, z, 1/m)
+  const Real* x_prev = nullptr;   // records of the substep's start (damped only)
+};
+
+// The lane types live in unnamed namespaces, so that every instantiation of
+// the kernel is local to its file: the linker can never pick a copy
+// compiled with -mavx2 for a caller on a CPU without AVX2.
+namespace {
+
+// One element at a time, in plain C++.
+struct ScalarLane {
+  static constexpr int N = 1;
+  using M = bool;
+  Real v;
+  ScalarLane() = default;
+  explicit ScalarLane(Real s) : v(s) {}
+  static ScalarLane load(const Real* p) { return ScalarLane(*p); }
+  static void store(Real* p, ScalarLane s) { *p = s.v; }
+  friend ScalarLane operator+(ScalarLane p, ScalarLane q) { return ScalarLane(p.v + q.v); }
+  friend ScalarLane operator-(ScalarLane p, ScalarLane q) { return ScalarLane(p.v - q.v); }
+  friend ScalarLane operator*(ScalarLane p, ScalarLane q) { return ScalarLane(p.v * q.v); }
+  friend ScalarLane operator/(ScalarLane p, ScalarLane q) { return ScalarLane(p.v / q.v); }
+  friend ScalarLane sqrt(ScalarLane p) { return ScalarLane(std::sqrt(p.v)); }
+  static M gt(ScalarLane p, ScalarLane q) { return p.v > q.v; }
+  static M ge(ScalarLane p, ScalarLane q) { return p.v >= q.v; }
+  static M both(M p, M q) { return p && q; }
+  static bool all(M p) { return p; }
+  static ScalarLane select(M m, ScalarLane p, ScalarLane q) { return m ? p : q; }
+  // Records r[0..N) -> components.
+  static void load_records(const Real* const* r, ScalarLane& x, ScalarLane& y, ScalarLane& z, ScalarLane& w) {
+    x.v = r[0][0], y.v = r[0][1], z.v = r[0][2], w.v = r[0][3];
+  }
+  static void store_records(Real* const* r, ScalarLane x, ScalarLane y, ScalarLane z, ScalarLane w) {
+    r[0][0] = x.v, r[0][1] = y.v, r[0][2] = z.v, r[0][3] = w.v;
+  }
+};
+
+}  // namespace
+
+// Elements [j, j + V::N) of the stream, which share no particle.
+template <class V, bool kDamped>
+[[gnu::always_inline]] inline void project_stream_lanes(const StreamArgs& s, std::size_t j) {
+  Real* ra[V::N];
+  Real* rb[V::N];
+  for (int l = 0; l < V::N; ++l) {
+    ra[l] = s.x + 4 * static_cast<std::size_t>(s.a[j + static_cast<std::size_t>(l)]);
+    rb[l] = s.x + 4 * static_cast<std::size_t>(s.b[j + static_cast<std::size_t>(l)]);
+  }
+  V xa, ya, za, wa, xb, yb, zb, wb;
+  V::load_records(ra, xa, ya, za, wa);
+  V::load_records(rb, xb, yb, zb, wb);
+  const V rest = V::load(s.rest + j);
+  const V at = V::load(s.at + j);
+  const V inv_den = V::load(s.inv_den + j);
+  const V lam = V::load(s.lambda + j);
+  const typename V::M den_ok = V::gt(inv_den, V(Real(0)));
+  const V num0 = rest - at * lam;
+
+  // Dependent on the positions.
+  const V dx = xa - xb, dy = ya - yb, dz = za - zb;
+  const V q = (dx * dx + dy * dy) + dz * dz;
+  const V len = sqrt(q);
+  const typename V::M ok = V::both(den_ok, V::gt(len, V(kDegenerateRel) * rest));
+  // len * (1/q) rather than 1/len (the division beside the square root),
+  // except where q is subnormal and 1/q would overflow (lengths below about
+  // 1e-154 m in double): only then is 1/len computed as well.
+  V inv_len = len * (V(Real(1)) / q);
+  const typename V::M normal = V::ge(q, V(std::numeric_limits<Real>::min()));
+  if (!V::all(normal)) inv_len = V::select(normal, inv_len, V(Real(1)) / len);
+  V num = num0 - len;
+  if constexpr (kDamped) {
+    const Real* pa[V::N];
+    const Real* pb[V::N];
+    for (int l = 0; l < V::N; ++l) {
+      pa[l] = s.x_prev + 4 * static_cast<std::size_t>(s.a[j + static_cast<std::size_t>(l)]);
+      pb[l] = s.x_prev + 4 * static_cast<std::size_t>(s.b[j + static_cast<std::size_t>(l)]);
+    }
+    V pxa, pya, pza, pwa, pxb, pyb, pzb, pwb;
+    V::load_records(pa, pxa, pya, pza, pwa);
+    V::load_records(pb, pxb, pyb, pzb, pwb);
+    const V vx = (xa - pxa) - (xb - pxb), vy = (ya - pya) - (yb - pyb), vz = (za - pza) - (zb - pzb);
+    num = num - (V::load(s.gamma + j) * inv_len) * ((dx * vx + dy * vy) + dz * vz);
+  }
+  const V dl = num * inv_den;
+  V::store(s.lambda + j, V::select(ok, lam + dl, lam));
+  const V sa = dl * (wa * inv_len), sb = dl * (wb * inv_len);
+  V::store_records(ra, V::select(ok, xa + sa * dx, xa), V::select(ok, ya + sa * dy, ya),
+                   V::select(ok, za + sa * dz, za), wa);
+  V::store_records(rb, V::select(ok, xb - sb * dx, xb), V::select(ok, yb - sb * dy, yb),
+                   V::select(ok, zb - sb * dz, zb), wb);
+}
+
+// Elements [lo, hi) of one colour: V::N at a time, the rest one by one.
+template <class V, bool kDamped>
+inline void project_stream_range(const StreamArgs& s, std::size_t lo, std::size_t hi) {
+  std::size_t j = lo;
+  for (; j + V::N <= hi; j += V::N) project_stream_lanes<V, kDamped>(s, j);
+  for (; j < hi; ++j) project_stream_lanes<ScalarLane, kDamped>(s, j);
+}
+
+// at, 1/den and gamma of elements [lo, hi) for substeps of h (one element
+// at a time; the same operations in every build).
+inline void prepare_stream_range(const Index* a, const Index* b, const Real* compliance, const Real* damping,
+                                 const Real* inv_mass, Real h, bool damped, Real* at, Real* inv_den,
+                                 Real* gamma, std::size_t lo, std::size_t hi) {
+  const Real inv_h = Real(1) / h;
+  const Real inv_h2 = inv_h * inv_h;
+  for (std::size_t j = lo; j < hi; ++j) {
+    const Real wg = inv_mass[a[j]] + inv_mass[b[j]];
+    at[j] = compliance[j] * inv_h2;
+    Real den = wg + at[j];
+    if (damped) {
+      gamma[j] = (compliance[j] * damping[j]) * inv_h;
+      den = den + gamma[j] * wg;
+    }
+    inv_den[j] = den > Real(0) ? Real(1) / den : Real(0);
+  }
+}
+
+// Entry points (stream.cpp; stream_avx2.cpp).
+void project_stream_scalar(const StreamArgs& s, std::size_t lo, std::size_t hi, bool damped);
+void project_stream_avx2(const StreamArgs& s, std::size_t lo, std::size_t hi, bool damped);
+
+}  // namespace xpbd::detail
