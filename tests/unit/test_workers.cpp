@@ -28,6 +28,22 @@ TEST(Workers, EveryTaskRunsExactlyOnce) {
   }
 }
 
+// Many short jobs back to back, as the colours of a sweep are: each one's
+// tasks all run once, with helpers entering late or not at all.
+TEST(Workers, ManyShortJobsInARow) {
+  for (int threads : {2, 3}) {
+    Workers w(threads);
+    int bad = 0;
+    for (int round = 0; round < 20000; ++round) {
+      const int tasks = 1 + round % 5;
+      std::atomic<int> sum{0};
+      w.run(tasks, [&](int t) { sum.fetch_add(t + 1); });
+      bad += sum.load() != tasks * (tasks + 1) / 2;
+    }
+    EXPECT_EQ(bad, 0) << threads << " threads";
+  }
+}
+
 TEST(Workers, ExceptionIsRethrownAndThePoolStillWorks) {
   Workers w(2);
   std::atomic<int> ran{0};

@@ -5,6 +5,28 @@
 #include "xpbd/error.hpp"
 
 namespace xpbd {
+namespace {
+
+constexpr int kSpins = 100000;     // polls before a thread blocks
+constexpr int kYieldEvery = 1024;  // polls between two yields
+
+// Polls until ready() (yielding now and then: with more threads than free
+// cores, the thread being waited for may need this core), then blocks on
+// `a` until ready().
+template <class T, class Ready>
+void wait_until(std::atomic<T>& a, Ready ready) {
+  for (int spin = 0; spin < kSpins; ++spin) {
+    if (ready()) return;
+    if (spin % kYieldEvery == kYieldEvery - 1) std::this_thread::yield();
+  }
+  for (;;) {
+    const T v = a.load(std::memory_order_seq_cst);
+    if (ready()) return;
+    a.wait(v, std::memory_order_seq_cst);
+  }
+}
+
+}  // namespace
 
 Workers::Workers(int threads) {
   if (threads < 1) throw ConfigError("Workers: threads must be >= 1, got " + std::to_string(threads));
@@ -13,10 +35,20 @@ Workers::Workers(int threads) {
 }
 
 Workers::~Workers() {
+  begin_setup();
   stop_ = true;
-  generation_.fetch_add(1, std::memory_order_release);
-  generation_.notify_all();
+  publish();
   for (std::thread& t : helpers_) t.join();
+}
+
+void Workers::begin_setup() {
+  generation_.fetch_add(1, std::memory_order_seq_cst);  // odd: no helper enters now
+  wait_until(active_, [&] { return active_.load(std::memory_order_seq_cst) == 0; });
+}
+
+void Workers::publish() {
+  generation_.fetch_add(1, std::memory_order_seq_cst);  // even: the job is out
+  generation_.notify_all();
 }
 
 void Workers::work() {
@@ -29,24 +61,31 @@ void Workers::work() {
       std::lock_guard lock(error_mutex_);
       if (!error_) error_ = std::current_exception();
     }
+    if (done_.fetch_add(1, std::memory_order_acq_rel) + 1 == tasks_) done_.notify_one();
   }
 }
 
 void Workers::helper_loop() {
   std::uint64_t seen = 0;
   for (;;) {
-    // Spin a little (the next colour usually follows within microseconds),
-    // then block until the generation changes.
-    std::uint64_t g = generation_.load(std::memory_order_acquire);
-    for (int spin = 0; g == seen && spin < 100000; ++spin) g = generation_.load(std::memory_order_acquire);
-    if (g == seen) {
-      generation_.wait(seen, std::memory_order_acquire);
-      g = generation_.load(std::memory_order_acquire);
+    // A job is an even generation this helper has not entered yet.
+    std::uint64_t g = 0;
+    wait_until(generation_, [&] {
+      g = generation_.load(std::memory_order_seq_cst);
+      return g != seen && (g & 1) == 0;
+    });
+    // Enter, then check that the caller has not begun the next setup
+    // meanwhile (it waits for active_ == 0 after making the generation odd).
+    active_.fetch_add(1, std::memory_order_seq_cst);
+    if (generation_.load(std::memory_order_seq_cst) != g) {
+      if (active_.fetch_sub(1, std::memory_order_seq_cst) == 1) active_.notify_one();
+      continue;
     }
     seen = g;
-    if (stop_) return;
-    work();
-    busy_.fetch_sub(1, std::memory_order_acq_rel);
+    const bool stop = stop_;
+    if (!stop) work();
+    if (active_.fetch_sub(1, std::memory_order_seq_cst) == 1) active_.notify_one();
+    if (stop) return;
   }
 }
 
@@ -56,17 +95,17 @@ void Workers::run(int tasks, const std::function<void(int)>& f) {
     for (int t = 0; t < tasks; ++t) f(t);
     return;
   }
+  begin_setup();
   job_ = &f;
   tasks_ = tasks;
   error_ = nullptr;
   next_.store(0, std::memory_order_relaxed);
-  busy_.store(static_cast<int>(helpers_.size()), std::memory_order_relaxed);
-  generation_.fetch_add(1, std::memory_order_release);
-  generation_.notify_all();
+  done_.store(0, std::memory_order_relaxed);
+  publish();
   work();
-  while (busy_.load(std::memory_order_acquire) != 0) {
-  }
-  job_ = nullptr;
+  // Done when every task has run, whoever ran it: a helper that has not
+  // woken yet is not waited for (it finds no task left when it does).
+  wait_until(done_, [&] { return done_.load(std::memory_order_acquire) == tasks; });
   if (error_) std::rethrow_exception(error_);
 }
 

@@ -7,13 +7,17 @@
 //
 // run(tasks, f) calls f(t) once for every t in [0, tasks), spread over the
 // calling thread and the helpers, and returns when all calls have returned.
-// Helpers wait for work polling (up to 100,000 polls, so that the next
-// colour and the next substep find them awake), then blocked
-// (std::atomic::wait): a pool left idle stops using CPU. With 4,000 polls
-// the two-thread step was 0.82-1.40 times the one-thread step; with
-// 100,000, 1.48-1.77 (docs/benchmarks.md, "Threads"). One Workers serves one step() at a time; it
-// is not itself thread-safe. An exception thrown by f is rethrown by run()
-// (the first one), after every task has finished.
+// Tasks are taken one at a time by whichever thread is free, and run()
+// waits for the tasks, not for the helpers: when the helpers are not
+// running (more threads than free cores), the calling thread does the
+// tasks itself instead of waiting for them to be scheduled. Waiting threads
+// poll (up to 100,000 polls, yielding every 1,024, so that the next colour
+// and the next substep find them awake), then block (std::atomic::wait): a
+// pool left idle stops using CPU. With 4,000 polls the two-thread step was
+// 0.82-1.40 times the one-thread step; with 100,000, 1.48-1.77
+// (docs/benchmarks.md, "Threads"). One Workers serves one step() at a time;
+// it is not itself thread-safe. An exception thrown by f is rethrown by
+// run() (the first one), after every task has finished.
 #include <atomic>
 #include <cstdint>
 #include <exception>
@@ -38,12 +42,17 @@ class Workers {
 
  private:
   void helper_loop();
-  void work();  // takes tasks of the current job until none is left
+  void work();         // takes tasks of the current job until none is left
+  void begin_setup();  // no helper inside the job fields after this
+  void publish();      // the job fields are out
 
   std::vector<std::thread> helpers_;
-  std::atomic<std::uint64_t> generation_{0};  // bumped for every job (and at shutdown)
-  std::atomic<int> next_{0};                  // next task index of the current job
-  std::atomic<int> busy_{0};                  // helpers still inside the current job
+  // Even: a job is out (or none yet); odd: the calling thread is setting
+  // one up, and no helper may read the fields below.
+  std::atomic<std::uint64_t> generation_{0};
+  std::atomic<int> active_{0};  // helpers inside the current job
+  std::atomic<int> next_{0};    // next task index of the current job
+  std::atomic<int> done_{0};    // tasks of the current job that have returned
   int tasks_ = 0;
   const std::function<void(int)>* job_ = nullptr;
   bool stop_ = false;
