@@ -424,7 +424,7 @@ void register_all() {
   }
   for (Stiffness s : {Stiffness::compliant, Stiffness::rigid}) {
     const std::string n = name(s);
-    for (auto [sub, it] : {std::pair{10, 1}, std::pair{1, 10}}) {
+    for (auto [sub, it] : {std::pair{10, 1}, std::pair{20, 1}, std::pair{1, 10}}) {
       const std::string si = "/substeps:" + std::to_string(sub) + "/iterations:" + std::to_string(it);
       add("step/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, false, 1, true);
       add("step_coloured/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, true, 1, true);

@@ -120,8 +120,9 @@ bool refresh_escaped(const Model& m, State& s, const StepConfig& cfg, int sub, R
   return true;
 }
 
-void reset_multipliers(State& s) {
-  for (auto& l : s.lambda) std::fill(l.begin(), l.end(), Real(0));
+void reset_multipliers(State& s, bool skip_distance) {
+  for (std::size_t k = 0; k < s.lambda.size(); ++k)
+    if (!(skip_distance && k == type_index_v<Distance>)) std::fill(s.lambda[k].begin(), s.lambda[k].end(), Real(0));
   std::fill(s.self_collision.lambda.begin(), s.self_collision.lambda.end(), Real(0));
 }
 
@@ -129,7 +130,7 @@ void reset_multipliers(State& s) {
 // (each type with elements is a stage of its own in StepConfig::times).
 // StepConfig::coloured: Distance in the order of m.distance_colours, with
 // XPBD over the compiled stream (stream.hpp; on cfg.workers when set).
-void solve_constraints(const Model& m, State& s, const SolveContext& sc, const StepConfig& cfg,
+void solve_constraints(const Model& m, State& s, const SolveContext& sc, const StepConfig& cfg, bool first,
                        StageTimes* times) {
   const bool coloured = cfg.coloured;
   for_each_constraint_type([&]<class T>(std::type_identity<T>) {
@@ -143,7 +144,7 @@ void solve_constraints(const Model& m, State& s, const SolveContext& sc, const S
         const bool damped = m.has_damping[type_index_v<T>];
         if constexpr (std::is_same_v<T, Distance>) {
           if (coloured && sc.method == Method::xpbd) {
-            detail::stream_sweep(m, s, sc, damped, cfg.simd, cfg.workers);
+            detail::stream_sweep(m, s, sc, damped, cfg.simd, first, cfg.workers);
             return;
           }
           if (coloured) {
@@ -253,8 +254,10 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
       rigid::begin_substep(m, s);
       rigid::predict_bodies(s.bodies, h);
       // Lambda starts at zero every substep (Algorithm 2, line 6).
-      reset_multipliers(s);
-      if (stream) detail::stream_begin_substep(s);
+      // (The coloured XPBD sweep's first sweep takes its multipliers as 0
+      // and writes them all; State::lambda of Distance is written at the
+      // end of the step.)
+      reset_multipliers(s, stream);
     });
     // 3. Solve: `iterations` Gauss-Seidel sweeps over all constraints, then
     // up to `contact_sweeps` more while a contact is violated when the
@@ -274,7 +277,7 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
       // substep, and one substep per step, alternate too), runs last to first.
       sc.reverse = cfg.alternate_sweeps && ((s.sweeps + sweeps) & 1) != 0;
       ++sweeps;
-      solve_constraints(m, s, sc, cfg, t);
+      solve_constraints(m, s, sc, cfg, it == 0, t);
       timed(t, stage::self_collision_solve, !s.self_collision.pairs.empty(),
             [&] { solve_self_collisions(m, s, sc); });
       timed(t, stage::body_attachments, !s.attachments.empty(),

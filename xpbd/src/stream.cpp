@@ -14,16 +14,13 @@
 namespace xpbd {
 namespace detail {
 
-void project_stream_scalar(const StreamArgs& s, std::size_t lo, std::size_t hi, bool damped) {
-  if (damped)
-    project_stream_range<ScalarLane, true>(s, lo, hi);
-  else
-    project_stream_range<ScalarLane, false>(s, lo, hi);
+void project_stream_scalar(const StreamArgs& s, std::size_t lo, std::size_t hi, bool damped, bool first) {
+  project_stream_variant<ScalarLane>(s, lo, hi, damped, first);
 }
 
 namespace {
 
-using Kernel = void (*)(const StreamArgs&, std::size_t, std::size_t, bool);
+using Kernel = void (*)(const StreamArgs&, std::size_t, std::size_t, bool, bool);
 
 bool cpu_has_avx2() {
 #if XPBD_HAVE_AVX2_KERNEL
@@ -91,9 +88,7 @@ void stream_begin_step(const Model& m, State& s, Real h, Workers* workers) {
   });
 }
 
-void stream_begin_substep(State& s) { std::fill(s.stream_lambda.begin(), s.stream_lambda.end(), Real(0)); }
-
-void stream_sweep(const Model& m, State& s, const SolveContext& sc, bool damped, bool simd,
+void stream_sweep(const Model& m, State& s, const SolveContext& sc, bool damped, bool simd, bool first,
                   Workers* workers) {
   const std::size_t n = static_cast<std::size_t>(m.num_particles());
   const DistanceStream& ds = m.distance_stream;
@@ -120,7 +115,7 @@ void stream_sweep(const Model& m, State& s, const SolveContext& sc, bool damped,
   for (Index j = 0; j < colours; ++j) {
     const auto c = static_cast<std::size_t>(sc.reverse ? colours - 1 - j : j);
     const auto b = static_cast<std::size_t>(cs.begin[c]), e = static_cast<std::size_t>(cs.begin[c + 1]);
-    split(workers, e - b, 8, [&](std::size_t lo, std::size_t hi) { k(a, b + lo, b + hi, damped); });
+    split(workers, e - b, 8, [&](std::size_t lo, std::size_t hi) { k(a, b + lo, b + hi, damped, first); });
   }
 
   split(workers, n, 1, [&](std::size_t lo, std::size_t hi) {
@@ -162,7 +157,7 @@ void prepare_stream(const Model& m, State& s, Real h, Workers* workers) {
                       " elements, the model has " + std::to_string(m.get<Distance>().size()) +
                       " Distance elements (use compile)");
   detail::stream_begin_step(m, s, h, workers);
-  detail::stream_begin_substep(s);
+  std::fill(s.stream_lambda.begin(), s.stream_lambda.end(), Real(0));
 }
 
 void project_stream(const Model& m, State& s, const SolveContext& sc, bool simd, Workers* workers) {
@@ -172,7 +167,7 @@ void project_stream(const Model& m, State& s, const SolveContext& sc, bool simd,
       s.stream_x.size() != 4 * static_cast<std::size_t>(m.num_particles()) ||
       (damped && s.stream_gamma.size() != e))
     throw ConfigError("project_stream: the state's stream is not prepared for this model (call prepare_stream)");
-  detail::stream_sweep(m, s, sc, damped, simd, workers);
+  detail::stream_sweep(m, s, sc, damped, simd, false, workers);
 }
 
 const char* simd_kernel() { return detail::cpu_has_avx2() ? "avx2" : "scalar"; }

@@ -13,12 +13,12 @@ namespace detail {
 // computes each element's at, 1/den and gamma for substeps of h: at the
 // start of every step.
 void stream_begin_step(const Model& m, State& s, Real h, Workers* workers);
-// Zeroes the stream multipliers: at the start of every substep.
-void stream_begin_substep(State& s);
 // One sweep of the Distance elements, colour by colour (last to first for
 // sc.reverse): particles copied into State::stream_x, projected, copied
-// back. `workers` may be null.
-void stream_sweep(const Model& m, State& s, const SolveContext& sc, bool damped, bool simd,
+// back. `first`: the first sweep of a substep, which takes every multiplier
+// as 0 and writes them all (so they need no zeroing at the substep's
+// start). `workers` may be null.
+void stream_sweep(const Model& m, State& s, const SolveContext& sc, bool damped, bool simd, bool first,
                   Workers* workers);
 // State::lambda of Distance from the stream multipliers: at the end of a step.
 void stream_end_step(const Model& m, State& s);

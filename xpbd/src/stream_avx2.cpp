@@ -115,11 +115,8 @@ struct Avx2Lane {
 
 }  // namespace
 
-void project_stream_avx2(const StreamArgs& s, std::size_t lo, std::size_t hi, bool damped) {
-  if (damped)
-    project_stream_range<Avx2Lane, true>(s, lo, hi);
-  else
-    project_stream_range<Avx2Lane, false>(s, lo, hi);
+void project_stream_avx2(const StreamArgs& s, std::size_t lo, std::size_t hi, bool damped, bool first) {
+  project_stream_variant<Avx2Lane>(s, lo, hi, damped, first);
 }
 
 }  // namespace xpbd::detail

@@ -72,7 +72,11 @@ struct ScalarLane {
 }  // namespace
 
 // Elements [j, j + V::N) of the stream, which share no particle.
-template <class V, bool kDamped>
+// kFirst: the first sweep of a substep, where every multiplier is 0: it is
+// not read, and the sweep writes every element's (so nothing needs zeroing
+// beforehand). 0 + dl and rest - at * 0 are what the other variant
+// computes from a multiplier of +0, so both give the same bits.
+template <class V, bool kDamped, bool kFirst>
 [[gnu::always_inline]] inline void project_stream_lanes(const StreamArgs& s, std::size_t j) {
   Real* ra[V::N];
   Real* rb[V::N];
@@ -86,7 +90,7 @@ template <class V, bool kDamped>
   const V rest = V::load(s.rest + j);
   const V at = V::load(s.at + j);
   const V inv_den = V::load(s.inv_den + j);
-  const V lam = V::load(s.lambda + j);
+  const V lam = kFirst ? V(Real(0)) : V::load(s.lambda + j);
   const typename V::M den_ok = V::gt(inv_den, V(Real(0)));
   const V num0 = rest - at * lam;
 
@@ -125,11 +129,26 @@ template <class V, bool kDamped>
 }
 
 // Elements [lo, hi) of one colour: V::N at a time, the rest one by one.
-template <class V, bool kDamped>
+template <class V, bool kDamped, bool kFirst>
 inline void project_stream_range(const StreamArgs& s, std::size_t lo, std::size_t hi) {
   std::size_t j = lo;
-  for (; j + V::N <= hi; j += V::N) project_stream_lanes<V, kDamped>(s, j);
-  for (; j < hi; ++j) project_stream_lanes<ScalarLane, kDamped>(s, j);
+  for (; j + V::N <= hi; j += V::N) project_stream_lanes<V, kDamped, kFirst>(s, j);
+  for (; j < hi; ++j) project_stream_lanes<ScalarLane, kDamped, kFirst>(s, j);
+}
+
+template <class V>
+inline void project_stream_variant(const StreamArgs& s, std::size_t lo, std::size_t hi, bool damped, bool first) {
+  if (damped) {
+    if (first)
+      project_stream_range<V, true, true>(s, lo, hi);
+    else
+      project_stream_range<V, true, false>(s, lo, hi);
+  } else {
+    if (first)
+      project_stream_range<V, false, true>(s, lo, hi);
+    else
+      project_stream_range<V, false, false>(s, lo, hi);
+  }
 }
 
 // at, 1/den and gamma of elements [lo, hi) for substeps of h (one element
@@ -152,7 +171,7 @@ inline void prepare_stream_range(const Index* a, const Index* b, const Real* com
 }
 
 // Entry points (stream.cpp; stream_avx2.cpp).
-void project_stream_scalar(const StreamArgs& s, std::size_t lo, std::size_t hi, bool damped);
-void project_stream_avx2(const StreamArgs& s, std::size_t lo, std::size_t hi, bool damped);
+void project_stream_scalar(const StreamArgs& s, std::size_t lo, std::size_t hi, bool damped, bool first);
+void project_stream_avx2(const StreamArgs& s, std::size_t lo, std::size_t hi, bool damped, bool first);
 
 }  // namespace xpbd::detail
