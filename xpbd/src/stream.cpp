@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <string>
 #include <cstdint>
 #include <functional>
+#include <string>
 
 #include "stream_kernel.hpp"
 #include "xpbd/error.hpp"
@@ -66,6 +66,25 @@ void pack(const std::vector<Vec3>& x, const std::vector<Real>& inv_mass, Real* o
   for (std::size_t i = lo; i < hi; ++i) {
     Real* r = out + 4 * i;
     r[0] = x[i].x(), r[1] = x[i].y(), r[2] = x[i].z(), r[3] = inv_mass[i];
+  }
+}
+
+// at, 1/den and gamma of elements [lo, hi) for substeps of h (one element
+// at a time; the same operations in every build).
+void prepare_stream_range(const Index* a, const Index* b, const Real* compliance, const Real* damping,
+                                 const Real* inv_mass, Real h, bool damped, Real* at, Real* inv_den,
+                                 Real* gamma, std::size_t lo, std::size_t hi) {
+  const Real inv_h = Real(1) / h;
+  const Real inv_h2 = inv_h * inv_h;
+  for (std::size_t j = lo; j < hi; ++j) {
+    const Real wg = inv_mass[a[j]] + inv_mass[b[j]];
+    at[j] = compliance[j] * inv_h2;
+    Real den = wg + at[j];
+    if (damped) {
+      gamma[j] = (compliance[j] * damping[j]) * inv_h;
+      den = den + gamma[j] * wg;
+    }
+    inv_den[j] = den > Real(0) ? Real(1) / den : Real(0);
   }
 }
 
@@ -151,7 +170,7 @@ DistanceStream make_distance_stream(const Model& m) {
 
 void prepare_stream(const Model& m, State& s, Real h, Workers* workers) {
   if (!(h > Real(0)) || !std::isfinite(h))
-    throw ConfigError("prepare_stream: h must be finite and > 0, got " + std::to_string(h));
+    throw ConfigError("prepare_stream: h must be finite and > 0, got " + format_value(double(h)));
   if (m.distance_stream.size() != m.get<Distance>().size())
     throw ConfigError("prepare_stream: model.distance_stream covers " + std::to_string(m.distance_stream.size()) +
                       " elements, the model has " + std::to_string(m.get<Distance>().size()) +

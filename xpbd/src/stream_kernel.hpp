@@ -12,7 +12,8 @@
 //   dl = num / den, lambda += dl, x_a += dl w_a / L d, x_b -= dl w_b / L d,
 // the element left alone where den <= 0 or L <= kDegenerateRel * rest.
 // at, gamma and 1/den do not change within a step: prepare_stream computes
-// them once per step (the division included), the sweeps read them.
+// them once per step (the division included; stream.cpp), the sweeps read
+// them.
 // Every lane type does these operations in this order, and none fuses a
 // multiply and an add (the files are built with -ffp-contract=off), so
 // every lane type gives the same bits.
@@ -148,25 +149,6 @@ inline void project_stream_variant(const StreamArgs& s, std::size_t lo, std::siz
       project_stream_range<V, false, true>(s, lo, hi);
     else
       project_stream_range<V, false, false>(s, lo, hi);
-  }
-}
-
-// at, 1/den and gamma of elements [lo, hi) for substeps of h (one element
-// at a time; the same operations in every build).
-inline void prepare_stream_range(const Index* a, const Index* b, const Real* compliance, const Real* damping,
-                                 const Real* inv_mass, Real h, bool damped, Real* at, Real* inv_den,
-                                 Real* gamma, std::size_t lo, std::size_t hi) {
-  const Real inv_h = Real(1) / h;
-  const Real inv_h2 = inv_h * inv_h;
-  for (std::size_t j = lo; j < hi; ++j) {
-    const Real wg = inv_mass[a[j]] + inv_mass[b[j]];
-    at[j] = compliance[j] * inv_h2;
-    Real den = wg + at[j];
-    if (damped) {
-      gamma[j] = (compliance[j] * damping[j]) * inv_h;
-      den = den + gamma[j] * wg;
-    }
-    inv_den[j] = den > Real(0) ? Real(1) / den : Real(0);
   }
 }
 
