@@ -80,8 +80,9 @@ TEST(Workers, BadThreadCountAndMissingColoursAreNamed) {
 // steps: coloured XPBD (damped, alternating sweep directions), with and
 // without threads. Positions, velocities and multipliers equal bit for
 // bit. (Its colours hold about 1,100 distance elements each, so they are
-// split; PBD's coloured sweep is not threaded.)
-void check_bitwise(Method method, int threads, bool simd) {
+// split; PBD's coloured sweep is not threaded.) With `bending`, a 64 x 64
+// cloth with dihedral bending.
+void check_bitwise(Method method, int threads, bool simd, bool bending) {
   SceneDesc d;
   ClothGridDesc g;
   g.nx = g.ny = 48;
@@ -89,6 +90,12 @@ void check_bitwise(Method method, int threads, bool simd) {
   g.u = Vec3::UnitX();
   g.v = Vec3::UnitZ();  // horizontal: it falls and swings about the pinned edge
   g.stretch.damping = method == Method::xpbd ? Real(2) : Real(0);
+  // Dihedral bending too (its XPBD stream is split over the threads as
+  // well): 64 x 64 gives colours of more than 512 hinges, which are split.
+  if (bending) {
+    g.nx = g.ny = 64;
+    g.set_bending(ClothBending::dihedral, Material{Real(1e-4), Real(0.5), 1});
+  }
   add_cloth_grid(d, g);
   const Model m = compile(d);
   State one = make_state(m), many = make_state(m);
@@ -113,13 +120,16 @@ void check_bitwise(Method method, int threads, bool simd) {
     moved = std::max(moved, (one.x[i] - m.x0[i]).norm());
   }
   EXPECT_EQ(one.lambdas<Distance>(), many.lambdas<Distance>());
+  EXPECT_EQ(one.lambdas<DihedralBending>(), many.lambdas<DihedralBending>());
   EXPECT_GT(moved, Real(0.1));  // the cloth did fall and swing
 }
 
 TEST(Workers, ThreadedColouredStepIsBitwiseTheSingleThreadedOne) {
-  check_bitwise(Method::xpbd, 2, true);
-  check_bitwise(Method::xpbd, 3, true);
-  check_bitwise(Method::xpbd, 2, false);
+  check_bitwise(Method::xpbd, 2, true, false);
+  check_bitwise(Method::xpbd, 3, true, false);
+  check_bitwise(Method::xpbd, 2, false, false);
+  check_bitwise(Method::xpbd, 2, true, true);
+  check_bitwise(Method::xpbd, 4, true, true);
 }
 
 }  // namespace

@@ -260,13 +260,13 @@ void compile_global_volumes(const SceneDesc& s, Model& m) {
   }
 }
 
-// Greedy colouring of two-particle elements in array order
-// (Model::ColourSchedule): element k takes the smallest colour that no
-// earlier element sharing one of its particles has. The colours are then
-// laid out one after another, each in array order (a stable counting sort).
-// Cost: O(sum over elements of the degrees of their two particles).
+// Greedy colouring of elements in array order (Model::ColourSchedule):
+// element k takes the smallest colour that no earlier element sharing one
+// of its particles has. The colours are then laid out one after another,
+// each in array order (a stable counting sort). Cost: O(sum over elements
+// of the degrees of their particles).
 template <class T>
-ColourSchedule colour_pairs(const std::vector<T>& cs, Index num_particles) {
+ColourSchedule colour_elements(const std::vector<T>& cs, Index num_particles) {
   ColourSchedule out;
   if (cs.empty()) return out;
   // used[i]: the colours of the elements seen so far that touch particle i.
@@ -275,18 +275,15 @@ ColourSchedule colour_pairs(const std::vector<T>& cs, Index num_particles) {
   std::vector<char> taken;  // scratch, indexed by colour, all 0 between elements
   Index ncol = 0;
   for (std::size_t k = 0; k < cs.size(); ++k) {
-    auto& ua = used[static_cast<std::size_t>(cs[k].p[0])];
-    auto& ub = used[static_cast<std::size_t>(cs[k].p[1])];
     taken.resize(static_cast<std::size_t>(ncol) + 1, 0);
-    for (Index c : ua) taken[static_cast<std::size_t>(c)] = 1;
-    for (Index c : ub) taken[static_cast<std::size_t>(c)] = 1;
+    for (Index p : cs[k].p)
+      for (Index c : used[static_cast<std::size_t>(p)]) taken[static_cast<std::size_t>(c)] = 1;
     Index c = 0;
     while (taken[static_cast<std::size_t>(c)]) ++c;  // taken[ncol] is 0: stops at ncol at most
-    for (Index u : ua) taken[static_cast<std::size_t>(u)] = 0;
-    for (Index u : ub) taken[static_cast<std::size_t>(u)] = 0;
+    for (Index p : cs[k].p)
+      for (Index u : used[static_cast<std::size_t>(p)]) taken[static_cast<std::size_t>(u)] = 0;
     colour[k] = c;
-    ua.push_back(c);
-    ub.push_back(c);
+    for (Index p : cs[k].p) used[static_cast<std::size_t>(p)].push_back(c);
     ncol = std::max(ncol, c + 1);
   }
   out.begin.assign(static_cast<std::size_t>(ncol) + 1, 0);
@@ -464,11 +461,13 @@ Model compile(const SceneDesc& s) {
     for (const T& c : m.get<T>()) any = any || c.mat.damping != Real(0);
     m.has_damping[type_index_v<T>] = any;
   });
-  m.distance_colours = colour_pairs(m.get<Distance>(), n);
+  m.distance_colours = colour_elements(m.get<Distance>(), n);
   m.distance_by_colour.reserve(m.distance_colours.order.size());
   for (Index k : m.distance_colours.order)
     m.distance_by_colour.push_back(m.get<Distance>()[static_cast<std::size_t>(k)]);
   m.distance_stream = detail::make_distance_stream(m);
+  m.dihedral_colours = colour_elements(m.get<DihedralBending>(), n);
+  m.dihedral_stream = detail::make_dihedral_stream(m);
   return m;
 }
 

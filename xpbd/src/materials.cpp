@@ -39,4 +39,9 @@ void refresh_distance_colours(Model& m) {
   m.distance_stream = make_distance_stream(m);
 }
 
+void refresh_dihedral_stream(Model& m) {
+  if (m.dihedral_colours.order.size() != m.get<DihedralBending>().size()) return;  // no schedule
+  m.dihedral_stream = make_dihedral_stream(m);
+}
+
 }  // namespace xpbd::detail

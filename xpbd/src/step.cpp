@@ -57,6 +57,12 @@ void check_colours(const Model& m) {
     throw ConfigError("StepConfig.coloured: model.distance_colours covers " +
                       std::to_string(c.order.size()) + " elements, the model has " +
                       std::to_string(n) + " Distance elements (use compile)");
+  const ColourSchedule& h = m.dihedral_colours;
+  const std::size_t nh = m.get<DihedralBending>().size();
+  if (h.order.size() != nh || m.dihedral_stream.size() != nh || h.begin.empty() || h.begin.front() != 0 ||
+      static_cast<std::size_t>(h.begin.back()) != nh)
+    throw ConfigError("StepConfig.coloured: model.dihedral_colours covers " + std::to_string(h.order.size()) +
+                      " elements, the model has " + std::to_string(nh) + " DihedralBending elements (use compile)");
 }
 
 // Pin targets at fraction t in [0, 1] of the step.
@@ -120,16 +126,19 @@ bool refresh_escaped(const Model& m, State& s, const StepConfig& cfg, int sub, R
   return true;
 }
 
-void reset_multipliers(State& s, bool skip_distance) {
+void reset_multipliers(State& s, bool skip_distance, bool skip_dihedral) {
   for (std::size_t k = 0; k < s.lambda.size(); ++k)
-    if (!(skip_distance && k == type_index_v<Distance>)) std::fill(s.lambda[k].begin(), s.lambda[k].end(), Real(0));
+    if (!(skip_distance && k == type_index_v<Distance>) && !(skip_dihedral && k == type_index_v<DihedralBending>))
+      std::fill(s.lambda[k].begin(), s.lambda[k].end(), Real(0));
   std::fill(s.self_collision.lambda.begin(), s.self_collision.lambda.end(), Real(0));
 }
 
 // One Gauss-Seidel sweep over every constraint type, in ConstraintTypes order
 // (each type with elements is a stage of its own in StepConfig::times).
 // StepConfig::coloured: Distance in the order of m.distance_colours, with
-// XPBD over the compiled stream (stream.hpp; on cfg.workers when set).
+// XPBD over the compiled stream (stream.hpp; on cfg.workers when set), and
+// with XPBD DihedralBending over its own stream in the order of
+// m.dihedral_colours.
 void solve_constraints(const Model& m, State& s, const SolveContext& sc, const StepConfig& cfg, bool first,
                        StageTimes* times) {
   const bool coloured = cfg.coloured;
@@ -142,6 +151,12 @@ void solve_constraints(const Model& m, State& s, const SolveContext& sc, const S
       } else {
         std::span<const T> span(cs);
         const bool damped = m.has_damping[type_index_v<T>];
+        if constexpr (std::is_same_v<T, DihedralBending>) {
+          if (coloured && sc.method == Method::xpbd) {
+            detail::dihedral_sweep(m, s, sc, damped, cfg.simd, first, cfg.workers);
+            return;
+          }
+        }
         if constexpr (std::is_same_v<T, Distance>) {
           if (coloured && sc.method == Method::xpbd) {
             detail::stream_sweep(m, s, sc, damped, cfg.simd, first, cfg.workers);
@@ -235,6 +250,8 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
   // The coloured XPBD Distance sweep runs over the compiled stream.
   const bool stream = cfg.coloured && cfg.method == Method::xpbd && !m.get<Distance>().empty();
   if (stream) timed(t, stage::step_setup, true, [&] { detail::stream_begin_step(m, s, h, cfg.workers); });
+  const bool hinges = cfg.coloured && cfg.method == Method::xpbd && !m.get<DihedralBending>().empty();
+  if (hinges) timed(t, stage::step_setup, true, [&] { detail::dihedral_begin_step(m, s, h, cfg.workers); });
   std::uint64_t sweeps = 0;  // in this step
   for (int sub = 0; sub < cfg.substeps; ++sub) {
     timed(t, stage::predict, true, [&] {
@@ -254,10 +271,10 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
       rigid::begin_substep(m, s);
       rigid::predict_bodies(s.bodies, h);
       // Lambda starts at zero every substep (Algorithm 2, line 6).
-      // (The coloured XPBD sweep's first sweep takes its multipliers as 0
-      // and writes them all; State::lambda of Distance is written at the
-      // end of the step.)
-      reset_multipliers(s, stream);
+      // (The coloured XPBD sweeps' first sweep takes its multipliers as 0
+      // and writes them all; State::lambda of Distance and DihedralBending
+      // is written at the end of the step.)
+      reset_multipliers(s, stream, hinges);
     });
     // 3. Solve: `iterations` Gauss-Seidel sweeps over all constraints, then
     // up to `contact_sweeps` more while a contact is violated when the
@@ -308,6 +325,7 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
           [&] { rigid::world_contact_velocities(s, h); });
   }
   if (stream) detail::stream_end_step(m, s);
+  if (hinges) detail::dihedral_end_step(m, s);
   s.pin_target_prev = s.pin_target;  // same size: no allocation
   s.sweeps += sweeps;
   s.time += cfg.dt;

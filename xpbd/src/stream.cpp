@@ -18,10 +18,6 @@ void project_stream_scalar(const StreamArgs& s, std::size_t lo, std::size_t hi, 
   project_stream_variant<ScalarLane>(s, lo, hi, damped, first);
 }
 
-namespace {
-
-using Kernel = void (*)(const StreamArgs&, std::size_t, std::size_t, bool, bool);
-
 bool cpu_has_avx2() {
 #if XPBD_HAVE_AVX2_KERNEL
   static const bool has = __builtin_cpu_supports("avx2") != 0;
@@ -31,42 +27,53 @@ bool cpu_has_avx2() {
 #endif
 }
 
-Kernel kernel(bool simd) {
-#if XPBD_HAVE_AVX2_KERNEL
-  if (simd && cpu_has_avx2()) return &project_stream_avx2;
-#endif
-  (void)simd;
-  return &project_stream_scalar;
-}
+bool use_avx2(bool simd) { return simd && cpu_has_avx2(); }
 
-// Calls f(lo, hi) over [0, n) in `tasks` contiguous pieces whose bounds are
-// multiples of `align` (so that vector batches stay whole), on the workers
-// when there are several.
-constexpr std::size_t kMinPerTask = 256;
-
-template <class F>
-void split(Workers* w, std::size_t n, std::size_t align, F&& f) {
-  int tasks = 1;
-  if (w != nullptr && n >= 2 * kMinPerTask) tasks = std::min(w->threads(), static_cast<int>(n / kMinPerTask));
-  if (tasks <= 1) {
-    f(0, n);
-    return;
-  }
-  auto bound = [&](int t) {
-    if (t == tasks) return n;
-    const std::size_t b = n * static_cast<std::size_t>(t) / static_cast<std::size_t>(tasks);
-    return b - b % align;
-  };
-  auto task = [&](int t) { f(bound(t), bound(t + 1)); };
-  w->run(tasks, std::ref(task));  // std::ref: no allocation
-}
-
+namespace {
 void pack(const std::vector<Vec3>& x, const std::vector<Real>& inv_mass, Real* out, std::size_t lo,
           std::size_t hi) {
   for (std::size_t i = lo; i < hi; ++i) {
     Real* r = out + 4 * i;
     r[0] = x[i].x(), r[1] = x[i].y(), r[2] = x[i].z(), r[3] = inv_mass[i];
   }
+}
+}  // namespace
+
+void size_records(const Model& m, State& s, bool damped) {
+  const std::size_t n4 = 4 * static_cast<std::size_t>(m.num_particles());
+  if (s.stream_x.size() != n4) s.stream_x.assign(n4, Real(0));
+  if (damped && s.stream_x_prev.size() != n4) s.stream_x_prev.assign(n4, Real(0));
+}
+
+void pack_records(const Model& m, State& s, bool damped, Workers* workers) {
+  Real* const px = s.stream_x.data();
+  Real* const pprev = damped ? s.stream_x_prev.data() : nullptr;
+  split(workers, s.x.size(), 1, [&](std::size_t lo, std::size_t hi) {
+    pack(s.x, m.inv_mass, px, lo, hi);
+    if (damped) pack(s.x_prev, m.inv_mass, pprev, lo, hi);
+  });
+}
+
+void unpack_records(State& s, Workers* workers) {
+  const Real* const px = s.stream_x.data();
+  split(workers, s.x.size(), 1, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t i = lo; i < hi; ++i) {
+      const Real* r = px + 4 * i;
+      s.x[i] = Vec3(r[0], r[1], r[2]);
+    }
+  });
+}
+
+namespace {
+
+using Kernel = void (*)(const StreamArgs&, std::size_t, std::size_t, bool, bool);
+
+Kernel kernel(bool simd) {
+#if XPBD_HAVE_AVX2_KERNEL
+  if (use_avx2(simd)) return &project_stream_avx2;
+#endif
+  (void)simd;
+  return &project_stream_scalar;
 }
 
 // at, 1/den and gamma of elements [lo, hi) for substeps of h (one element
@@ -91,11 +98,9 @@ void prepare_stream_range(const Index* a, const Index* b, const Real* compliance
 }  // namespace
 
 void stream_begin_step(const Model& m, State& s, Real h, Workers* workers) {
-  const std::size_t n4 = 4 * static_cast<std::size_t>(m.num_particles());
   const std::size_t e = m.distance_stream.size();
   const bool damped = m.has_damping[type_index_v<Distance>];
-  if (s.stream_x.size() != n4) s.stream_x.assign(n4, Real(0));
-  if (damped && s.stream_x_prev.size() != n4) s.stream_x_prev.assign(n4, Real(0));
+  size_records(m, s, damped);
   s.stream_at.resize(e);
   s.stream_inv_den.resize(e);
   s.stream_gamma.resize(damped ? e : 0);
@@ -109,14 +114,8 @@ void stream_begin_step(const Model& m, State& s, Real h, Workers* workers) {
 
 void stream_sweep(const Model& m, State& s, const SolveContext& sc, bool damped, bool simd, bool first,
                   Workers* workers) {
-  const std::size_t n = static_cast<std::size_t>(m.num_particles());
   const DistanceStream& ds = m.distance_stream;
-  Real* const px = s.stream_x.data();
-  Real* const pprev = damped ? s.stream_x_prev.data() : nullptr;
-  split(workers, n, 1, [&](std::size_t lo, std::size_t hi) {
-    pack(s.x, m.inv_mass, px, lo, hi);
-    if (damped) pack(s.x_prev, m.inv_mass, pprev, lo, hi);
-  });
+  pack_records(m, s, damped, workers);
 
   StreamArgs a;
   a.a = ds.a.data();
@@ -126,30 +125,21 @@ void stream_sweep(const Model& m, State& s, const SolveContext& sc, bool damped,
   a.inv_den = s.stream_inv_den.data();
   a.gamma = s.stream_gamma.data();
   a.lambda = s.stream_lambda.data();
-  a.x = px;
-  a.x_prev = pprev;
+  a.x = s.stream_x.data();
+  a.x_prev = damped ? s.stream_x_prev.data() : nullptr;
   const Kernel k = kernel(simd);
-  const ColourSchedule& cs = m.distance_colours;
-  const Index colours = cs.num_colours();
-  for (Index j = 0; j < colours; ++j) {
-    const auto c = static_cast<std::size_t>(sc.reverse ? colours - 1 - j : j);
-    const auto b = static_cast<std::size_t>(cs.begin[c]), e = static_cast<std::size_t>(cs.begin[c + 1]);
-    split(workers, e - b, 8, [&](std::size_t lo, std::size_t hi) { k(a, b + lo, b + hi, damped, first); });
-  }
+  sweep_colours(m.distance_colours, sc.reverse, workers,
+                [&](std::size_t lo, std::size_t hi) { k(a, lo, hi, damped, first); });
 
-  split(workers, n, 1, [&](std::size_t lo, std::size_t hi) {
-    for (std::size_t i = lo; i < hi; ++i) {
-      const Real* r = px + 4 * i;
-      s.x[i] = Vec3(r[0], r[1], r[2]);
-    }
-  });
+  unpack_records(s, workers);
+}
+
+void scatter_lambda(const std::vector<Index>& order, const std::vector<Real>& from, std::vector<Real>& to) {
+  for (std::size_t j = 0; j < order.size(); ++j) to[static_cast<std::size_t>(order[j])] = from[j];
 }
 
 void stream_end_step(const Model& m, State& s) {
-  std::vector<Real>& lambda = s.lambdas<Distance>();
-  const auto& order = m.distance_colours.order;
-  for (std::size_t j = 0; j < order.size(); ++j)
-    lambda[static_cast<std::size_t>(order[j])] = s.stream_lambda[j];
+  scatter_lambda(m.distance_colours.order, s.stream_lambda, s.lambdas<Distance>());
 }
 
 DistanceStream make_distance_stream(const Model& m) {
@@ -175,8 +165,14 @@ void prepare_stream(const Model& m, State& s, Real h, Workers* workers) {
     throw ConfigError("prepare_stream: model.distance_stream covers " + std::to_string(m.distance_stream.size()) +
                       " elements, the model has " + std::to_string(m.get<Distance>().size()) +
                       " Distance elements (use compile)");
+  if (m.dihedral_stream.size() != m.get<DihedralBending>().size())
+    throw ConfigError("prepare_stream: model.dihedral_stream covers " + std::to_string(m.dihedral_stream.size()) +
+                      " elements, the model has " + std::to_string(m.get<DihedralBending>().size()) +
+                      " DihedralBending elements (use compile)");
   detail::stream_begin_step(m, s, h, workers);
   std::fill(s.stream_lambda.begin(), s.stream_lambda.end(), Real(0));
+  detail::dihedral_begin_step(m, s, h, workers);
+  std::fill(s.dihedral_lambda.begin(), s.dihedral_lambda.end(), Real(0));
 }
 
 void project_stream(const Model& m, State& s, const SolveContext& sc, bool simd, Workers* workers) {

@@ -1,13 +1,70 @@
 #pragma once
-// step()'s use of the DistanceStream (distance_stream.hpp): the coloured
-// XPBD Distance stage of one sweep, on the calling thread or over Workers.
+// step()'s use of the compiled streams (distance_stream.hpp,
+// dihedral_stream.hpp): the coloured XPBD Distance and DihedralBending
+// stages of one sweep, on the calling thread or over Workers.
+#include <algorithm>
+#include <cstddef>
+#include <functional>
+
 #include "xpbd/model.hpp"
 #include "xpbd/solve.hpp"
 #include "xpbd/state.hpp"
+#include "xpbd/workers.hpp"
 
 namespace xpbd {
-class Workers;
 namespace detail {
+
+// --- Shared by both streams (stream.cpp) ---
+
+// Calls f(lo, hi) over [0, n) in contiguous pieces whose bounds are
+// multiples of `align` (so that vector batches stay whole), on the workers
+// when there are several and n is at least 2 * kMinPerTask.
+constexpr std::size_t kMinPerTask = 256;
+
+template <class F>
+void split(Workers* w, std::size_t n, std::size_t align, F&& f) {
+  int tasks = 1;
+  if (w != nullptr && n >= 2 * kMinPerTask) tasks = std::min(w->threads(), static_cast<int>(n / kMinPerTask));
+  if (tasks <= 1) {
+    f(std::size_t(0), n);
+    return;
+  }
+  auto bound = [&](int t) {
+    if (t == tasks) return n;
+    const std::size_t b = n * static_cast<std::size_t>(t) / static_cast<std::size_t>(tasks);
+    return b - b % align;
+  };
+  auto task = [&](int t) { f(bound(t), bound(t + 1)); };
+  w->run(tasks, std::ref(task));  // std::ref: no allocation
+}
+
+// Calls kernel(lo, hi) over each colour of `cs` in turn (last to first if
+// `reverse`), each split over the workers in pieces whose bounds are
+// multiples of 8 (whole vector batches).
+template <class K>
+void sweep_colours(const ColourSchedule& cs, bool reverse, Workers* workers, K&& kernel) {
+  const Index colours = cs.num_colours();
+  for (Index j = 0; j < colours; ++j) {
+    const auto c = static_cast<std::size_t>(reverse ? colours - 1 - j : j);
+    const auto b = static_cast<std::size_t>(cs.begin[c]), e = static_cast<std::size_t>(cs.begin[c + 1]);
+    split(workers, e - b, 8, [&](std::size_t lo, std::size_t hi) { kernel(b + lo, b + hi); });
+  }
+}
+
+// to[order[j]] = from[j]: multipliers from stream order back to the
+// elements' order.
+void scatter_lambda(const std::vector<Index>& order, const std::vector<Real>& from, std::vector<Real>& to);
+
+// True if the AVX2 kernels run: `simd` asked for and the CPU has them.
+bool use_avx2(bool simd);
+bool cpu_has_avx2();
+// State::stream_x (and stream_x_prev when damped) sized for m's particles.
+void size_records(const Model& m, State& s, bool damped);
+// x (and x_prev when damped) with 1/m into the records; back into x.
+void pack_records(const Model& m, State& s, bool damped, Workers* workers);
+void unpack_records(State& s, Workers* workers);
+
+// --- The Distance stream (stream.cpp) ---
 
 // Sizes the stream scratch of `s` (no allocation after the first step) and
 // computes each element's at, 1/den and gamma for substeps of h: at the
@@ -24,6 +81,14 @@ void stream_sweep(const Model& m, State& s, const SolveContext& sc, bool damped,
 void stream_end_step(const Model& m, State& s);
 // The compiled stream of m's Distance elements in m.distance_colours order.
 DistanceStream make_distance_stream(const Model& m);
+
+// --- The DihedralBending stream (dihedral_stream.cpp), the same steps ---
+
+void dihedral_begin_step(const Model& m, State& s, Real h, Workers* workers);
+void dihedral_sweep(const Model& m, State& s, const SolveContext& sc, bool damped, bool simd, bool first,
+                    Workers* workers);
+void dihedral_end_step(const Model& m, State& s);
+DihedralStream make_dihedral_stream(const Model& m);
 
 }  // namespace detail
 }  // namespace xpbd

@@ -1,4 +1,5 @@
-// The AVX2 lane types of the stream kernel (stream_kernel.hpp): 8 floats or
+// The AVX2 lane types of the stream kernels (stream_kernel.hpp,
+// dihedral_kernel.hpp): 8 floats or
 // 4 doubles per register. This file alone is built with -mavx2 (and
 // -ffp-contract=off, no FMA); stream.cpp calls it only on a CPU that
 // reports AVX2. Particle records are loaded whole (one 16- or 32-byte load
@@ -7,6 +8,7 @@
 // slower than scalar code.
 #include <immintrin.h>
 
+#include "dihedral_kernel.hpp"
 #include "stream_kernel.hpp"
 
 namespace xpbd::detail {
@@ -29,6 +31,7 @@ struct Avx2Lane {
   friend Avx2Lane sqrt(Avx2Lane p) { return Avx2Lane(_mm256_sqrt_pd(p.v)); }
   static M gt(Avx2Lane p, Avx2Lane q) { return _mm256_cmp_pd(p.v, q.v, _CMP_GT_OQ); }
   static M ge(Avx2Lane p, Avx2Lane q) { return _mm256_cmp_pd(p.v, q.v, _CMP_GE_OQ); }
+  static M le(Avx2Lane p, Avx2Lane q) { return _mm256_cmp_pd(p.v, q.v, _CMP_LE_OQ); }
   static M both(M p, M q) { return _mm256_and_pd(p, q); }
   static bool all(M p) { return _mm256_movemask_pd(p) == 0xf; }
   static Avx2Lane select(M m, Avx2Lane p, Avx2Lane q) { return Avx2Lane(_mm256_blendv_pd(q.v, p.v, m)); }
@@ -73,6 +76,7 @@ struct Avx2Lane {
   friend Avx2Lane sqrt(Avx2Lane p) { return Avx2Lane(_mm256_sqrt_ps(p.v)); }
   static M gt(Avx2Lane p, Avx2Lane q) { return _mm256_cmp_ps(p.v, q.v, _CMP_GT_OQ); }
   static M ge(Avx2Lane p, Avx2Lane q) { return _mm256_cmp_ps(p.v, q.v, _CMP_GE_OQ); }
+  static M le(Avx2Lane p, Avx2Lane q) { return _mm256_cmp_ps(p.v, q.v, _CMP_LE_OQ); }
   static M both(M p, M q) { return _mm256_and_ps(p, q); }
   static bool all(M p) { return _mm256_movemask_ps(p) == 0xff; }
   static Avx2Lane select(M m, Avx2Lane p, Avx2Lane q) { return Avx2Lane(_mm256_blendv_ps(q.v, p.v, m)); }
@@ -117,6 +121,10 @@ struct Avx2Lane {
 
 void project_stream_avx2(const StreamArgs& s, std::size_t lo, std::size_t hi, bool damped, bool first) {
   project_stream_variant<Avx2Lane>(s, lo, hi, damped, first);
+}
+
+void project_dihedral_avx2(const DihedralArgs& s, std::size_t lo, std::size_t hi, bool damped, bool first) {
+  project_dihedral_variant<Avx2Lane>(s, lo, hi, damped, first);
 }
 
 }  // namespace xpbd::detail

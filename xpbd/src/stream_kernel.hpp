@@ -58,6 +58,7 @@ struct ScalarLane {
   friend ScalarLane sqrt(ScalarLane p) { return ScalarLane(std::sqrt(p.v)); }
   static M gt(ScalarLane p, ScalarLane q) { return p.v > q.v; }
   static M ge(ScalarLane p, ScalarLane q) { return p.v >= q.v; }
+  static M le(ScalarLane p, ScalarLane q) { return p.v <= q.v; }
   static M both(M p, M q) { return p && q; }
   static bool all(M p) { return p; }
   static ScalarLane select(M m, ScalarLane p, ScalarLane q) { return m ? p : q; }

@@ -48,6 +48,8 @@ struct DistanceStream {
 // given. prepare_stream must have been called for this model, state and
 // substep h (step() does at the start of every step); it also zeroes the
 // multipliers, s.stream_lambda[j] for element m.distance_colours.order[j].
+// prepare_stream prepares the DihedralBending stream (dihedral_stream.hpp)
+// as well.
 // Throws ConfigError if the state is not prepared, or h is not > 0.
 void prepare_stream(const Model& m, State& s, Real h, Workers* workers = nullptr);
 void project_stream(const Model& m, State& s, const SolveContext& sc, bool simd,

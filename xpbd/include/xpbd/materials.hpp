@@ -17,6 +17,8 @@ void check_material_change(const char* type, std::size_t first, std::size_t coun
                            const Material& mat);
 // Copies the Distance elements into Model::distance_by_colour again.
 void refresh_distance_colours(Model& m);
+// Builds Model::dihedral_stream again from the DihedralBending elements.
+void refresh_dihedral_stream(Model& m);
 }  // namespace detail
 
 // Sets the material of elements [first, first + count) of constraint type T
@@ -34,6 +36,7 @@ void set_material(Model& m, std::size_t first, std::size_t count, const Material
   for (const T& c : es) any = any || c.mat.damping != Real(0);
   m.has_damping[type_index_v<T>] = any;
   if constexpr (std::is_same_v<T, Distance>) detail::refresh_distance_colours(m);
+  if constexpr (std::is_same_v<T, DihedralBending>) detail::refresh_dihedral_stream(m);
 }
 
 // All elements of type T.

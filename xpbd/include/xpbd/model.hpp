@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "xpbd/constraint_types.hpp"
+#include "xpbd/dihedral_stream.hpp"
 #include "xpbd/distance_stream.hpp"
 #include "xpbd/spatial_hash.hpp"
 #include "xpbd/types.hpp"
@@ -61,6 +62,10 @@ struct Model {
   std::vector<Distance> distance_by_colour;
   // The same elements compiled for the XPBD kernel (distance_stream.hpp).
   DistanceStream distance_stream;
+  // The DihedralBending elements' colour schedule and its compiled form
+  // (dihedral_stream.hpp), for the coloured XPBD sweep.
+  ColourSchedule dihedral_colours;
+  DihedralStream dihedral_stream;
 
   // Opt-in particle-particle collision (spatial_hash.hpp); empty when off.
   SelfCollisionModel self_collision;

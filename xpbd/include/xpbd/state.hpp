@@ -83,6 +83,10 @@ struct State {
   AlignedVector<Real> stream_x, stream_x_prev;
   std::vector<Real> stream_lambda;
   std::vector<Real> stream_at, stream_inv_den, stream_gamma;
+  // The same for the coloured XPBD DihedralBending sweep
+  // (dihedral_stream.hpp; it reads the records above): the multipliers in
+  // stream order, compliance/h^2 and compliance*damping/h.
+  std::vector<Real> dihedral_lambda, dihedral_at, dihedral_gamma;
 
   // Particle-particle collision (spatial_hash.hpp): hash and the pairs found
   // at the start of the current step. Empty when the model has it off.

@@ -40,7 +40,9 @@ struct StepConfig {
   // form, Model::distance_stream (distance_stream.hpp), by a vector kernel
   // where the CPU has one (see simd); PBD runs the scalar kernel over
   // Model::distance_by_colour (solve.hpp, project_all_coloured), on the
-  // calling thread. Off by default. Every
+  // calling thread. With XPBD the DihedralBending elements too are swept
+  // colour by colour (Model::dihedral_colours) over their compiled form
+  // (dihedral_stream.hpp; AVX2 where the CPU has it). Off by default. Every
   // other type keeps the array order. This is a different Gauss-Seidel
   // order, so the result differs from the array order's (both converge to
   // the same solution, at different rates). With alternate_sweeps, the
@@ -58,12 +60,12 @@ struct StepConfig {
   // the same results bit for bit; this exists to measure one against the
   // other.
   bool simd = true;
-  // Threads for the coloured XPBD Distance sweep (workers.hpp; needs
-  // coloured, nullptr = the calling thread only). Each colour's elements are
-  // split over the pool's threads, the colours in turn, and so is the copy
-  // of the particles in and out of the stream: the result is bit for bit
-  // the single-threaded coloured sweep's. Pieces below 512 elements run on
-  // the calling thread. Every other stage (the other constraint types,
+  // Threads for the coloured XPBD Distance and DihedralBending sweeps
+  // (workers.hpp; needs coloured, nullptr = the calling thread only). Each
+  // colour's elements are split over the pool's threads, the colours in
+  // turn, and so is the copy of the particles in and out of the stream: the
+  // result is bit for bit the single-threaded coloured sweep's. Pieces
+  // below 512 elements run on the calling thread. Every other stage (the other constraint types,
   // contacts, prediction) and PBD's coloured sweep stay on the calling
   // thread.
   Workers* workers = nullptr;
