@@ -17,9 +17,12 @@
 // distance projection. At the end the program prints a table per size:
 // those figures, the array-order step's time over the coloured one's and
 // the one-thread coloured step's over the two-thread one's, all in this
-// run.
+// run; then where the time of the one-thread coloured step goes: the share
+// of each stage of step() (StepConfig::times, profile.hpp) over 3 steps
+// per size.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <map>
@@ -171,6 +174,36 @@ class Summary : public benchmark::ConsoleReporter {
   std::map<std::string, bool> medians_;
 };
 
+// Stage shares of the one-thread coloured step per size (StageTimes).
+void print_stages() {
+  std::printf("\nwhere the time goes, coloured step on one thread (%% of the timed stages, 3 steps):\n");
+  std::vector<std::size_t> shown;
+  std::vector<std::pair<int, StageTimes>> rows;
+  for (int n : kSizes) {
+    const Cloth& c = cloth(n);
+    StageTimes t;
+    StepConfig cfg;
+    cfg.substeps = kSubsteps;
+    cfg.coloured = true;
+    cfg.times = &t;
+    State s = c.snapshot;
+    for (int k = 0; k < 3; ++k) step(c.model, s, cfg);
+    for (std::size_t k = 0; k < stage::count; ++k)
+      if (t.calls[k] > 0 && std::find(shown.begin(), shown.end(), k) == shown.end()) shown.push_back(k);
+    rows.emplace_back(n, t);
+  }
+  std::printf("%6s", "N");
+  for (std::size_t k : shown) std::printf(" %16s", stage_name(k));
+  std::printf(" %12s\n", "ms/step");
+  for (const auto& [n, t] : rows) {
+    double total = 0;
+    for (std::size_t k : shown) total += double(t.ns[k]);
+    std::printf("%6d", n);
+    for (std::size_t k : shown) std::printf(" %15.1f%%", 100.0 * double(t.ns[k]) / total);
+    std::printf(" %12.2f\n", total * 1e-6 / 3);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -193,6 +226,7 @@ int main(int argc, char** argv) {
   Summary reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);
   reporter.summary();
+  print_stages();
   benchmark::Shutdown();
   return 0;
 }

@@ -76,19 +76,21 @@ void interpolate_pin_targets(State& s, Real t) {
 // Symplectic Euler prediction: x_prev = x, v += h (g + f/m), x += h v.
 // Kinematic particles (inverse mass 0) keep their velocity; a kinematic
 // particle with a pin is placed on the pin's current target.
+// Per particle, so split over cfg.workers when set (the same bits).
 void predict(const Model& m, State& s, const StepConfig& cfg, Real h) {
-  const Index n = m.num_particles();
   const bool forces = !s.f_ext.empty();
-  for (Index i = 0; i < n; ++i) {
-    s.x_prev[i] = s.x[i];
-    const Real w = m.inv_mass[i];
-    if (w > Real(0)) {
-      Vec3 a = cfg.gravity;
-      if (forces) a += w * s.f_ext[i];
-      s.v[i] += h * a;
+  detail::split(cfg.workers, s.x.size(), 1, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t i = lo; i < hi; ++i) {
+      s.x_prev[i] = s.x[i];
+      const Real w = m.inv_mass[i];
+      if (w > Real(0)) {
+        Vec3 a = cfg.gravity;
+        if (forces) a += w * s.f_ext[i];
+        s.v[i] += h * a;
+      }
+      s.x[i] += h * s.v[i];
     }
-    s.x[i] += h * s.v[i];
-  }
+  });
   const auto& pins = m.get<Pin>();
   for (std::size_t k = 0; k < pins.size(); ++k) {
     const Index i = pins[k].p[0];
@@ -182,11 +184,13 @@ void solve_constraints(const Model& m, State& s, const SolveContext& sc, const S
 }
 
 // v = (x - x_prev)/h, then optional drag.
-void update_velocities(const Model& m, State& s, const StepConfig& cfg, Real h) {
-  const Index n = m.num_particles();
+// (Split over cfg.workers when set.)
+void update_velocities(State& s, const StepConfig& cfg, Real h) {
   const Real inv_h = Real(1) / h;
   const Real keep = cfg.drag > Real(0) ? std::exp(-cfg.drag * h) : Real(1);
-  for (Index i = 0; i < n; ++i) s.v[i] = (s.x[i] - s.x_prev[i]) * (inv_h * keep);
+  detail::split(cfg.workers, s.x.size(), 1, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t i = lo; i < hi; ++i) s.v[i] = (s.x[i] - s.x_prev[i]) * (inv_h * keep);
+  });
 }
 
 }  // namespace
@@ -315,7 +319,7 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
     rigid::collect_contact_impulses(s, h);
     // 4. Velocities from the position change.
     timed(t, stage::velocity_update, true, [&] {
-      update_velocities(m, s, cfg, h);
+      update_velocities(s, cfg, h);
       rigid::update_body_velocities(s.bodies, h);
     });
     // 5. Contact friction and restitution on the new velocities.

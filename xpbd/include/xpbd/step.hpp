@@ -60,14 +60,15 @@ struct StepConfig {
   // the same results bit for bit; this exists to measure one against the
   // other.
   bool simd = true;
-  // Threads for the coloured XPBD Distance and DihedralBending sweeps
-  // (workers.hpp; needs coloured, nullptr = the calling thread only). Each
-  // colour's elements are split over the pool's threads, the colours in
-  // turn, and so is the copy of the particles in and out of the stream: the
-  // result is bit for bit the single-threaded coloured sweep's. Pieces
-  // below 512 elements run on the calling thread. Every other stage (the other constraint types,
-  // contacts, prediction) and PBD's coloured sweep stay on the calling
-  // thread.
+  // Threads for the coloured XPBD Distance and DihedralBending sweeps and
+  // the per-particle stages (workers.hpp; needs coloured, nullptr = the
+  // calling thread only). Each colour's elements are split over the pool's
+  // threads, the colours in turn, and so are the copy of the particles in
+  // and out of the stream, the prediction and the velocity update: the
+  // result is bit for bit the single-threaded coloured step's. Pieces below
+  // 512 elements or particles run on the calling thread. Every other stage
+  // (the other constraint types, contacts) and PBD's coloured sweep stay on
+  // the calling thread.
   Workers* workers = nullptr;
   // Extra sweeps where contacts need them (off by default): after the
   // `iterations` sweeps of a substep, another sweep runs while some body or
