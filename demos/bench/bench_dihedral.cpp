@@ -16,8 +16,8 @@
 //                  type without its own kernel uses (what step() ran before);
 //   coloured_sweep the kernel over the same hinges in a greedy colour order
 //                  (no two hinges of a colour share a particle, colours in
-//                  turn; built here, step() has no such order for hinges
-//                  yet): what the order alone is worth;
+//                  turn; built here as compile() builds
+//                  Model::dihedral_colours): what the order alone is worth;
 //   stream_sweep   xpbd::project_dihedral_stream, what step() runs with
 //                  StepConfig::coloured in XPBD: the compiled hinge stream
 //                  in the model's colour order with the widest kernel of
