@@ -78,17 +78,27 @@ void interpolate_pin_targets(State& s, Real t) {
 // particle with a pin is placed on the pin's current target.
 // Per particle, so split over cfg.workers when set (the same bits).
 void predict(const Model& m, State& s, const StepConfig& cfg, Real h) {
-  const bool forces = !s.f_ext.empty();
-  detail::split(cfg.workers, s.x.size(), 1, [&](std::size_t lo, std::size_t hi) {
+  // Plain pointers and values in the loop: nothing in it is re-read through
+  // the State or the config.
+  Vec3* const x = s.x.data();
+  Vec3* const x_prev = s.x_prev.data();
+  Vec3* const v = s.v.data();
+  const Real* const inv_mass = m.inv_mass.data();
+  const Vec3* const f = s.f_ext.empty() ? nullptr : s.f_ext.data();
+  const Vec3 g = cfg.gravity;
+  detail::split(cfg.workers, s.x.size(), 1, [=](std::size_t lo, std::size_t hi) {
     for (std::size_t i = lo; i < hi; ++i) {
-      s.x_prev[i] = s.x[i];
-      const Real w = m.inv_mass[i];
+      const Vec3 xi = x[i];
+      x_prev[i] = xi;
+      Vec3 vi = v[i];
+      const Real w = inv_mass[i];
       if (w > Real(0)) {
-        Vec3 a = cfg.gravity;
-        if (forces) a += w * s.f_ext[i];
-        s.v[i] += h * a;
+        Vec3 a = g;
+        if (f != nullptr) a += w * f[i];
+        vi += h * a;
       }
-      s.x[i] += h * s.v[i];
+      v[i] = vi;
+      x[i] = xi + h * vi;
     }
   });
   const auto& pins = m.get<Pin>();
@@ -188,8 +198,12 @@ void solve_constraints(const Model& m, State& s, const SolveContext& sc, const S
 void update_velocities(State& s, const StepConfig& cfg, Real h) {
   const Real inv_h = Real(1) / h;
   const Real keep = cfg.drag > Real(0) ? std::exp(-cfg.drag * h) : Real(1);
-  detail::split(cfg.workers, s.x.size(), 1, [&](std::size_t lo, std::size_t hi) {
-    for (std::size_t i = lo; i < hi; ++i) s.v[i] = (s.x[i] - s.x_prev[i]) * (inv_h * keep);
+  const Real scale = inv_h * keep;
+  const Vec3* const x = s.x.data();
+  const Vec3* const x_prev = s.x_prev.data();
+  Vec3* const v = s.v.data();
+  detail::split(cfg.workers, s.x.size(), 1, [=](std::size_t lo, std::size_t hi) {
+    for (std::size_t i = lo; i < hi; ++i) v[i] = (x[i] - x_prev[i]) * scale;
   });
 }
 

@@ -14,7 +14,7 @@
 // poll (up to 100,000 polls, yielding every 1,024, so that the next colour
 // and the next substep find them awake), then block (std::atomic::wait): a
 // pool left idle stops using CPU. A run of 2 empty tasks costs about
-// 140-260 ns; two threads make the coloured step 1.26-2.06 times as fast
+// 140-260 ns; two threads make the coloured step 1.26-2.11 times as fast
 // from a 64 x 64 cloth up (docs/benchmarks.md, "Threads" and
 // "bench_scale"). One Workers serves one step() at a time; it is not itself
 // thread-safe. An exception thrown by f is rethrown by run() (the first
