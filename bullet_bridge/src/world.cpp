@@ -475,6 +475,8 @@ void XpbdWorld::updateAction(btCollisionWorld* cw, btScalar dt) {
     predicted_.push_back(Predicted{rb, to_vec(dv / dt), to_vec(dw / dt)});
   }
   residuals_.clear();
+  for (auto& s : systems_)
+    if (s->stepped && s->error.empty() && s->settings.contacts.enabled && s->settings.contacts.settle) settle(*s);
   pre_solved_ = false;
   run_callbacks(dt);
 }

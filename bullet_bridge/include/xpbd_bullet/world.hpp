@@ -31,7 +31,9 @@
 //      end velocity (Bullet's contacts and joints then act on top of it); the
 //      residual (the shadow's end pose minus the pose Bullet's integration
 //      reaches from that velocity, translation and rotation, zero for a body
-//      at rest) is applied after integration, in updateAction.
+//      at rest) is applied after integration, in updateAction;
+//   7. settle, in updateAction after the residuals: particles put back
+//      outside the bodies' final poses (ContactSettings::settle).
 // A coupled body therefore moves as the same body solved by XPBD at the
 // substep, plus the changes of Bullet's own contacts and joints.
 //
@@ -114,6 +116,19 @@ struct ContactSettings {
   // of the step, in the substep it leaves it. Costs a pass over the
   // particles per substep, and the queries of the particles that left.
   bool refresh = true;
+  // After Bullet's solve and integration, put back outside each dynamic
+  // body the particles its final pose closed over (Bullet's own contacts
+  // and joints move a coupled body after XPBD has run: a box struck by
+  // another box, a body pushed down by what lands on it). Particles
+  // attached rigidly (compliance 0) to a dynamic body are put at their
+  // attachment point; each particle with a contact in the step that is
+  // closer to the body than the contact's thickness (radius plus
+  // `thickness`) is moved along the surface normal to it, then likewise
+  // for static and kinematic bodies. A position projection of the
+  // particles alone: velocities and bodies are unchanged. A particle
+  // squeezed between two bodies that Bullet pushed together can stay
+  // inside one of them (docs/bullet-bridge.md).
+  bool settle = true;
 };
 
 // Opt-in wall-clock breakdown of one system's steps (SystemSettings::times,
@@ -202,6 +217,9 @@ struct StepStats {
   // summed over substeps and systems, and the contacts that gave.
   int refreshed = 0;
   int refresh_contacts = 0;
+  // Particles moved by the settle pass after Bullet's integration
+  // (ContactSettings::settle), summed over systems.
+  int settled = 0;
 };
 
 // Typed ids: a system's id and an attachment's id cannot be mixed up (nor
@@ -387,6 +405,9 @@ class XpbdWorld : public btActionInterface {
   // Inside the step, at the start of substep `sub`: contacts for the
   // particles that left the path their contacts cover (world_refresh.cpp).
   void refresh_contacts(System& s, btScalar dt, int sub, std::span<const xpbd::Index> escaped);
+  // After Bullet's integration: s's particles put back outside the bodies'
+  // final poses (ContactSettings::settle; world_settle.cpp).
+  void settle(System& s);
   // Whether particle i of s is attached to obj.
   bool attached(const System& s, const btCollisionObject* obj, xpbd::Index i) const;
 
