@@ -197,6 +197,7 @@ XpbdWorld::XpbdWorld(btDiscreteDynamicsWorld& world) : world_(world) {
 }
 
 XpbdWorld::~XpbdWorld() {
+  release_spacers();
   world_.removeAction(this);
   // Give the slot back to the callback we chained, unless someone installed
   // theirs after ours (then it is theirs to keep).
@@ -333,6 +334,10 @@ void XpbdWorld::run_callbacks(btScalar dt) {
 void XpbdWorld::pre_solve(btScalar dt) {
   run_systems(dt);
   hand_over(dt, false);
+  release_spacers();  // none are left, unless a step was cut short
+  for (auto& s : systems_)
+    if (s->stepped && s->error.empty() && s->settings.contacts.enabled && s->settings.contacts.spacers)
+      add_spacers(*s);
 }
 
 void XpbdWorld::run_systems(btScalar dt) {
@@ -475,6 +480,7 @@ void XpbdWorld::updateAction(btCollisionWorld* cw, btScalar dt) {
     predicted_.push_back(Predicted{rb, to_vec(dv / dt), to_vec(dw / dt)});
   }
   residuals_.clear();
+  release_spacers();
   for (auto& s : systems_)
     if (s->stepped && s->error.empty() && s->settings.contacts.enabled && s->settings.contacts.settle) settle(*s);
   pre_solved_ = false;

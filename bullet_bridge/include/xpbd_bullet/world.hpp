@@ -32,7 +32,10 @@
 //      residual (the shadow's end pose minus the pose Bullet's integration
 //      reaches from that velocity, translation and rotation, zero for a body
 //      at rest) is applied after integration, in updateAction;
-//   7. settle, in updateAction after the residuals: particles put back
+//   7. spacers: for the particles between two bodies, contact points
+//      between those bodies for Bullet's solver in this step
+//      (ContactSettings::spacers), released in updateAction;
+//   8. settle, in updateAction after the residuals: particles put back
 //      outside the bodies' final poses (ContactSettings::settle).
 // A coupled body therefore moves as the same body solved by XPBD at the
 // substep, plus the changes of Bullet's own contacts and joints.
@@ -129,6 +132,13 @@ struct ContactSettings {
   // squeezed between two bodies that Bullet pushed together can stay
   // inside one of them (docs/bullet-bridge.md).
   bool settle = true;
+  // Make the cloth between two bodies visible to Bullet's solver: for each
+  // particle with contacts with two bodies on opposite sides of it in the
+  // step (one of them dynamic), a contact point between the two bodies is
+  // added to Bullet for that step, at the gap minus both contact
+  // thicknesses, so that Bullet's own contacts and joints cannot push the
+  // bodies together through the cloth (docs/bullet-bridge.md section 3).
+  bool spacers = true;
 };
 
 // Opt-in wall-clock breakdown of one system's steps (SystemSettings::times,
@@ -220,6 +230,9 @@ struct StepStats {
   // Particles moved by the settle pass after Bullet's integration
   // (ContactSettings::settle), summed over systems.
   int settled = 0;
+  // Contact points added to Bullet between two bodies with cloth between
+  // them (ContactSettings::spacers), summed over systems.
+  int spacers = 0;
 };
 
 // Typed ids: a system's id and an attachment's id cannot be mixed up (nor
@@ -408,6 +421,15 @@ class XpbdWorld : public btActionInterface {
   // After Bullet's integration: s's particles put back outside the bodies'
   // final poses (ContactSettings::settle; world_settle.cpp).
   void settle(System& s);
+  // After XPBD's step, before Bullet's: contact points between the bodies
+  // s's particles are squeezed between (ContactSettings::spacers;
+  // world_spacers.cpp), into spacers_; released after Bullet's solve.
+  void add_spacers(System& s);
+  // One spacer point between a and b: pa, pb on their surfaces, n from b
+  // towards a (Bullet's normalWorldOnB), distance m (< 0: too close).
+  void add_spacer(const btCollisionObject* a, const btCollisionObject* b, const btVector3& pa,
+                  const btVector3& pb, const btVector3& n, btScalar distance, btScalar friction);
+  void release_spacers();
   // Whether particle i of s is attached to obj.
   bool attached(const System& s, const btCollisionObject* obj, xpbd::Index i) const;
 
@@ -428,6 +450,8 @@ class XpbdWorld : public btActionInterface {
   std::vector<Shadow> shadows_;  // bodies touched in the current internal step
   std::vector<xpbd::Vec3> features_;  // scratch: feature points of one body (body frame)
   std::vector<xpbd::Vec3> tri_lo_, tri_hi_;  // scratch: swept triangle bounds
+  std::vector<btPersistentManifold*> spacers_;  // this step's spacer manifolds (world_spacers.cpp)
+  std::vector<std::pair<xpbd::Index, std::size_t>> spacer_order_;  // scratch: (particle, contact)
 };
 
 }  // namespace xpbd_bullet
