@@ -37,6 +37,13 @@ void XpbdWorld::refresh_contacts(System& s, btScalar dt, int sub, std::span<cons
   candidates(world_, lo, hi, refresh_candidates_, cs.filter_group, cs.filter_mask);
 
   const std::size_t before = st.contacts.size();
+  // The contacts the particles already have, by (particle, body): a
+  // refreshed contact replaces the pair's contact from earlier in the step
+  // (in its place in the solve order) rather than adding a second one,
+  // which would be solved twice in every sweep.
+  refresh_pairs_.clear();
+  for (std::size_t k = 0; k < before; ++k)
+    refresh_pairs_.emplace(pair_key(st.contacts[k].particle, st.contacts[k].body), k);
   for (const btCollisionObject* obj : refresh_candidates_) {
     if (!finite_body(obj)) continue;
     // The body as XPBD has it at the start of this substep: its entry in
@@ -88,10 +95,15 @@ void XpbdWorld::refresh_contacts(System& s, btScalar dt, int sub, std::span<cons
         s.free_bodies.push_back(one.front());
         st.bodies[std::size_t(body)] = now;
       }
-      st.contacts.push_back(detail::body_contact(cs, *obj, i, body, thick, pose_inv, c));
+      const xpbd::BodyContact bc = detail::body_contact(cs, *obj, i, body, thick, pose_inv, c);
+      const auto [it, added] = refresh_pairs_.emplace(pair_key(i, body), st.contacts.size());
+      if (added)
+        st.contacts.push_back(bc);
+      else
+        st.contacts[it->second] = bc;
+      ++stats_.refresh_contacts;
     }
   }
-  stats_.refresh_contacts += static_cast<int>(st.contacts.size() - before);
   stats_.contacts += static_cast<int>(st.contacts.size() - before);
 }
 

@@ -73,6 +73,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "xpbd/materials.hpp"
@@ -447,6 +448,11 @@ class XpbdWorld : public btActionInterface {
   // Scratch, reused across steps.
   std::vector<const btCollisionObject*> candidates_;
   std::vector<const btCollisionObject*> refresh_candidates_;  // refresh_contacts' own
+  // refresh_contacts' scratch: contact index by (particle, body) (pair_key).
+  std::unordered_map<std::uint64_t, std::size_t> refresh_pairs_;
+  static std::uint64_t pair_key(xpbd::Index particle, xpbd::Index body) {
+    return (std::uint64_t(std::uint32_t(particle)) << 32) | std::uint32_t(body);
+  }
   std::vector<Shadow> shadows_;  // bodies touched in the current internal step
   std::vector<xpbd::Vec3> features_;  // scratch: feature points of one body (body frame)
   std::vector<xpbd::Vec3> tri_lo_, tri_hi_;  // scratch: swept triangle bounds
