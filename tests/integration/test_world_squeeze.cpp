@@ -20,10 +20,13 @@
 // dynamic bodies are Bullet's alone, after XPBD: the spacers
 // (ContactSettings::spacers) show Bullet's solver the cloth between two
 // bodies, the settle pass (ContactSettings::settle) puts the particles back
-// outside the bodies' final poses, and what is left deeper than the
-// thickness is a particle squeezed between two bodies all the same.
-// Asserted: every frame deeper than the thickness is such a squeeze, and
-// there are fewer of them than without the two. Printed only: the depth with 49 bodies and
+// outside the bodies' final poses. What is left deeper than the thickness
+// is, nearly always, a particle between two bodies that overlap each other
+// (Bullet's own rigid contacts: in the run without the cloth, some pair of
+// bodies overlaps by more than 1 cm in 114-476 of the 600 frames, by up to
+// 15-29 cm, seeds 1-4), where no position of the particle is outside both.
+// Asserted: at most a quarter as many frames deeper than the thickness as
+// without the two. Printed only: the depth with 49 bodies and
 // the strain (the cloth whipped by the bar's impact does not converge at
 // one sweep per substep); docs/bullet-bridge.md section 6, item 6, has the
 // figures.
@@ -204,11 +207,14 @@ TEST_P(Squeeze, BarWithClothAmongFallingBodiesAtTheDefaults) {
   std::printf("%d bodies without the settle pass and the spacers: deepest %.4g m, %d frames deeper than the "
               "thickness, %d of them squeezed\n",
               bodies, double(before.deepest), before.frames_deep, before.frames_squeezed);
-  // Eight seeds of this scene (double, one run each) gave 179 such frames
-  // without them (one seed blew up) and 21 with them, all squeezed; this
-  // seed gives 25 and 5 (double) and 26 and 3 (float).
-  EXPECT_LT(with.frames_deep, before.frames_deep);
-  EXPECT_EQ(with.frames_deep, with.frames_squeezed);
+  // Eight other seeds of this scene, one run each, with the settle pass and
+  // the spacers: 13 such frames in double and 8 in float; in 20 of the 21
+  // the two bodies overlap each other there by 1.2-9.1 cm, and in the last
+  // a body that Bullet's solver threw at 2.6 m/s into the cloth had no
+  // contact with the particle in the step. Without the two, 179 frames in
+  // double (one seed blew up). This seed: 25 without and 4 with (double),
+  // 26 and 3 (float).
+  EXPECT_LE(4 * with.frames_deep, before.frames_deep);
 }
 
 INSTANTIATE_TEST_SUITE_P(Bodies, Squeeze, ::testing::Values(0, 49));

@@ -458,6 +458,7 @@ class XpbdWorld : public btActionInterface {
   std::vector<xpbd::Vec3> tri_lo_, tri_hi_;  // scratch: swept triangle bounds
   std::vector<btPersistentManifold*> spacers_;  // this step's spacer manifolds (world_spacers.cpp)
   std::vector<std::pair<xpbd::Index, std::size_t>> spacer_order_;  // scratch: (particle, contact)
+  std::vector<char> settle_moved_, settle_next_;  // scratch: particles moved in a settle round
 };
 
 }  // namespace xpbd_bullet
