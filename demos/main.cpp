@@ -262,6 +262,10 @@ int run(const Cli& cli) {
   std::printf("scene %s: %s\n", spec.name.c_str(), spec.description.c_str());
   std::printf("%d frames of %.4g s; %zu particles, %zu rigid bodies\n", base.frames, double(base.dt),
               soft.scene.positions.size(), spec.bodies.size());
+  // Every output directory must take files before anything runs: a bad
+  // --out is found now, not after the whole run.
+  for (const Plan& p : plans)
+    if (p.solver != Solver::bullet || bullet_ok) check_writable_dir(p.folder.empty() ? root : root / p.folder);
   std::vector<RunOutput> outs;
   std::vector<std::string> skipped;
   for (const Plan& p : plans) {

@@ -1,6 +1,7 @@
 #include "demos/output.hpp"
 
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -9,6 +10,24 @@
 namespace xpbd_demos {
 
 namespace fs = std::filesystem;
+
+std::string read_file(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return {};
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void check_writable_dir(const fs::path& dir) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw std::runtime_error("output directory '" + dir.string() + "': cannot create it: " + ec.message());
+  const fs::path probe = dir / ".xpbd-write-probe";
+  write_text_atomically(probe, "probe\n");
+  fs::remove(probe, ec);
+  if (ec) throw std::runtime_error("output directory '" + dir.string() + "': cannot remove '" + probe.string() + "': " + ec.message());
+}
 
 void write_json_atomically(const fs::path& file, const nlohmann::json& j) {
   // Non-finite numbers become null (nlohmann's dump); no exception for
@@ -30,17 +49,23 @@ void write_text_atomically(const fs::path& file, const std::string& text) {
   tmp_name += ".tmp.";
   tmp_name += std::to_string(::getpid());
   const fs::path tmp = dir / tmp_name;
+  auto fail = [&](const std::string& why) {
+    std::error_code ignore;
+    fs::remove(tmp, ignore);
+    throw std::runtime_error(why);
+  };
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error("cannot open '" + tmp.string() + "' for writing");
+    if (!out) fail("cannot open '" + tmp.string() + "' for writing (for '" + file.string() + "')");
     out << text;
-    out.flush();
-    if (!out) {
-      out.close();
-      fs::remove(tmp, ec);
-      throw std::runtime_error("cannot write '" + tmp.string() + "'");
-    }
+    out.close();  // a full disk can show only here
+    if (!out) fail("cannot write '" + file.string() + "' (temporary '" + tmp.string() + "')");
   }
+  // Read back before it replaces the target: a device that swallowed the
+  // bytes, or a file system that kept fewer of them, is an error here, not
+  // a file listed as written.
+  if (!fs::is_regular_file(tmp, ec) || read_file(tmp) != text)
+    fail("'" + file.string() + "' did not read back as written (temporary '" + tmp.string() + "')");
   fs::rename(tmp, file, ec);
   if (ec) {
     std::error_code ignore;

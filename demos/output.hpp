@@ -13,7 +13,17 @@ namespace xpbd_demos {
 // Throws std::runtime_error naming the path and the reason on failure.
 void write_json_atomically(const std::filesystem::path& file, const nlohmann::json& j);
 
-// The same for any text (written byte for byte, no newline added).
+// The same for any text (written byte for byte, no newline added). The
+// temporary file is read back and compared before the rename: a write that
+// the device or file system swallowed (a full disk) throws, naming `file`.
 void write_text_atomically(const std::filesystem::path& file, const std::string& text);
+
+// The whole file as bytes; empty if it cannot be opened.
+std::string read_file(const std::filesystem::path& file);
+
+// Creates `dir` if needed and writes and removes a small file in it, so an
+// output directory that cannot take the run's files is refused before the
+// run. Throws std::runtime_error naming the directory and the reason.
+void check_writable_dir(const std::filesystem::path& dir);
 
 }  // namespace xpbd_demos

@@ -15,6 +15,8 @@
 #include <string>
 #include <system_error>
 
+#include "demos/output.hpp"
+
 namespace xpbd_demos {
 
 namespace fs = std::filesystem;
@@ -231,6 +233,26 @@ std::vector<int> preview_frame_numbers(int frames, int panels) {
   return out;
 }
 
+bool png_complete(const fs::path& file, std::string* why) {
+  auto no = [&](const std::string& w) {
+    if (why) *why = w;
+    return false;
+  };
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) return no("is not a regular file");
+  const std::string bytes = read_file(file);
+  static constexpr unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+  // The IEND chunk: length 0, type, CRC-32 of the type.
+  static constexpr unsigned char kEnd[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xAE, 0x42, 0x60, 0x82};
+  if (bytes.size() < sizeof kSignature + sizeof kEnd)
+    return no("has " + std::to_string(bytes.size()) + " bytes, too few for a PNG");
+  if (!std::equal(kSignature, kSignature + 8, bytes.begin(), [](unsigned char a, char b) { return a == static_cast<unsigned char>(b); }))
+    return no("does not start with the PNG signature");
+  if (!std::equal(kEnd, kEnd + 12, bytes.end() - 12, [](unsigned char a, char b) { return a == static_cast<unsigned char>(b); }))
+    return no("does not end with the PNG end chunk (IEND): truncated");
+  return true;
+}
+
 void render_preview(const fs::path& png, const PreviewInput& in) {
   check_input(in);
 
@@ -389,9 +411,10 @@ void render_preview(const fs::path& png, const PreviewInput& in) {
   const std::string command = in.gnuplot + " " + sh_quote(script.string());
   try {
     run(command + " 2> " + sh_quote(err.string()), err);
-    if (!fs::exists(tmp_png) || fs::file_size(tmp_png) == 0)
-      throw std::runtime_error("render_preview: '" + command + "' exited with status 0 but wrote no picture '" +
-                               tmp_png.string() + "'");
+    std::string why;
+    if (!png_complete(tmp_png, &why))
+      throw std::runtime_error("render_preview: '" + png.string() + "' was not written: '" + command +
+                               "' exited with status 0, but its picture '" + tmp_png.string() + "' " + why);
     fs::rename(tmp_png, png, ec);
     if (ec)
       throw std::runtime_error("render_preview: cannot rename '" + tmp_png.string() + "' to '" + png.string() +

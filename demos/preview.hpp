@@ -44,8 +44,15 @@ struct PreviewInput {
 // Throws std::invalid_argument for bad input (no frames, an index out of
 // range, a non-finite position: named), std::runtime_error naming the
 // command and its exit status (and gnuplot's first error lines) if gnuplot
-// is missing or fails.
+// is missing or fails, and std::runtime_error naming `png` if the picture
+// gnuplot left is not a complete PNG (gnuplot exits 0 after a failed write,
+// e.g. on a full disk): see png_complete.
 void render_preview(const std::filesystem::path& png, const PreviewInput& in);
+
+// Whether `file` is a regular file holding a whole PNG stream: the 8-byte
+// signature first and the IEND chunk (with its CRC) last. If not, `why`
+// (when given) says what is wrong.
+bool png_complete(const std::filesystem::path& file, std::string* why = nullptr);
 
 // Which frames to show: `panels` frame numbers spread evenly over 0 ..
 // frames - 1 (rounded to the nearest), first and last included; every frame

@@ -153,6 +153,21 @@ TEST(Cli, BadCommandLineExitsWithStatus2) {
   EXPECT_NE(b.err.find("dihedral"), std::string::npos) << b.err;
 }
 
+// An --out that cannot take files (below a regular file) is exit 1 naming
+// it, before anything runs: no frame is stepped (no progress line) and no
+// result table is printed.
+TEST(Cli, UnwritableOutIsRefusedBeforeTheRun) {
+  const fs::path dir = scratch("unwritable");
+  const fs::path file = dir / "plain";
+  { std::ofstream(file) << "x"; }
+  const fs::path out = file / "out";
+  const Result r = run({"rope_pendulum", "--frames", "60", "--no-preview", "--out", out.string()});
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find(out.string()), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("frame"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out.find("ms/frame"), std::string::npos) << r.out;
+}
+
 // Every file of the malformed corpus (tests/demos/malformed/EXPECTED.txt:
 // file, expected JSON path) exits with status 2 before running anything and
 // names the file and the path on stderr.

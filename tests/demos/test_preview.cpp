@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -183,6 +184,57 @@ TEST_F(Preview, MissingOrFailingGnuplotNamesTheCommandAndStatus) {
   }
   // Nothing is left behind: no picture, no temporary file.
   EXPECT_EQ(listing(), std::vector<std::string>{});
+}
+
+// gnuplot exits with status 0 after a failed write. A full disk, made here
+// for the picture alone: its temporary file (next to the target, named with
+// this process's id) is a link to /dev/full, where every write fails with
+// ENOSPC. The picture must not be listed as written: render_preview throws,
+// naming preview.png, and leaves no preview.png.
+TEST_F(Preview, PictureOnAFullDiskIsAnErrorNamingTheFile) {
+  REQUIRE_GNUPLOT();
+  ASSERT_TRUE(fs::exists("/dev/full"));
+  fs::create_directories(dir_);
+  const fs::path png = dir_ / "preview.png";
+  fs::create_symlink("/dev/full", dir_ / (".preview.png.tmp." + std::to_string(::getpid())));
+  try {
+    render_preview(png, cloth_scene());
+    ADD_FAILURE() << "no error for a picture written to a full disk";
+  } catch (const std::runtime_error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find(png.string()), std::string::npos) << msg;
+    EXPECT_NE(msg.find("not written"), std::string::npos) << msg;
+  }
+  EXPECT_FALSE(fs::exists(png));
+}
+
+// png_complete on a real picture, and on the same bytes cut short (the end
+// chunk lost) or with a foreign first byte.
+TEST_F(Preview, TruncatedPngIsRecognised) {
+  REQUIRE_GNUPLOT();
+  const fs::path png = dir_ / "preview.png";
+  render_preview(png, cloth_scene());
+  std::string why;
+  ASSERT_TRUE(png_complete(png, &why)) << why;
+  std::ifstream in(png, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto write = [&](const fs::path& p, const std::string& b) {
+    std::ofstream out(p, std::ios::binary);
+    out << b;
+  };
+  const fs::path cut = dir_ / "cut.png", other = dir_ / "other.png";
+  write(cut, bytes.substr(0, bytes.size() / 2));
+  EXPECT_FALSE(png_complete(cut, &why));
+  EXPECT_NE(why.find("IEND"), std::string::npos) << why;
+  write(cut, bytes.substr(0, bytes.size() - 1));
+  EXPECT_FALSE(png_complete(cut));
+  std::string foreign = bytes;
+  foreign[0] = 'G';
+  write(other, foreign);
+  EXPECT_FALSE(png_complete(other, &why));
+  EXPECT_NE(why.find("signature"), std::string::npos) << why;
+  EXPECT_FALSE(png_complete(dir_ / "missing.png", &why));
+  EXPECT_FALSE(png_complete(dir_, &why));  // a directory
 }
 
 TEST(PreviewInputCheck, BadInputIsNamed) {
