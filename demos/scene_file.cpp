@@ -985,6 +985,9 @@ void validate(const Ctx& c, const SceneSpec& s) {
         at.body >= 0 && std::size_t(at.body) < s.bodies.size(), p + "/body",
         "index " + std::to_string(at.body) + " out of range [0, " + std::to_string(s.bodies.size()) + ")");
   }
+  // Last, so an error in an element is named first.
+  c.require(n > 0, "/soft",
+            "the scene has no particles: give soft.particles or a generator (docs/scene-format.md)");
 }
 
 // ---------------------------------------------------------------------------

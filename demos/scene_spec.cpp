@@ -24,6 +24,14 @@ using xpbd::Vec3;
 // cloth with shear and bending edges already takes about 0.5 GB).
 constexpr std::int64_t kMaxParticles = 1000000;
 
+// Upper bounds on a cloth's tethers (scene files only; the library has
+// none): the tethers created, and the tether lengths computed (one per
+// pinned particle and grid particle, each pin a shortest-path search for
+// geodesic lengths). `tethers: all_pinned` on a cloth pinned along an edge
+// grows as pins x particles: a 180-byte file once asked for 0.8 GB.
+constexpr std::int64_t kMaxTethers = 1000000;
+constexpr std::int64_t kMaxTetherLengths = 100000000;
+
 // Tolerance for "unit length" and "orthogonal" axes given by hand: accepts
 // four-digit rounding (0.7071), catches typos.
 constexpr double kAxisTol = 1e-3;
@@ -82,6 +90,29 @@ struct Checker {
   }
 };
 
+void check_tethers(const Checker& c, const xpbd::ClothGridDesc& d) {
+  if (d.tethers == xpbd::TetherAnchors::none) return;
+  std::set<std::pair<int, int>> pins(d.pinned.begin(), d.pinned.end());
+  switch (d.pins) {
+    case xpbd::ClothPins::none: break;
+    case xpbd::ClothPins::top_corners: pins.insert({{0, 0}, {d.nx - 1, 0}}); break;
+    case xpbd::ClothPins::top_edge:
+      for (int i = 0; i < d.nx; ++i) pins.insert({i, 0});
+      break;
+    case xpbd::ClothPins::all_corners: pins.insert({{0, 0}, {d.nx - 1, 0}, {0, d.ny - 1}, {d.nx - 1, d.ny - 1}}); break;
+  }
+  const std::int64_t p = std::int64_t(pins.size()), n = std::int64_t(d.nx) * d.ny, movable = n - p;
+  const std::int64_t tethers = d.tethers == xpbd::TetherAnchors::all_pinned ? p * movable : movable;
+  if (tethers > kMaxTethers)
+    c.fail("tethers", "would create " + std::to_string(tethers) + " tethers (" + std::to_string(p) + " pinned x " +
+                          std::to_string(movable) + " movable particles); a scene file may create at most " +
+                          std::to_string(kMaxTethers) + ": use \"nearest_pinned\" or fewer pinned particles");
+  if (p * n > kMaxTetherLengths)
+    c.fail("tethers", "would compute " + std::to_string(p * n) + " tether lengths (" + std::to_string(p) +
+                          " pinned x " + std::to_string(n) + " particles); a scene file may ask for at most " +
+                          std::to_string(kMaxTetherLengths) + ": pin fewer particles");
+}
+
 void check_cloth(const Checker& c, const xpbd::ClothGridDesc& d, std::int64_t before) {
   c.at_least("nx", d.nx, 2);
   c.at_least("ny", d.ny, 2);
@@ -108,6 +139,7 @@ void check_cloth(const Checker& c, const xpbd::ClothGridDesc& d, std::int64_t be
                  " x " + std::to_string(d.ny) + " grid (i in [0, " + std::to_string(d.nx) + "), j in [0, " +
                  std::to_string(d.ny) + "))");
   }
+  check_tethers(c, d);
 }
 
 void check_rope(const Checker& c, const xpbd::RopeDesc& d, std::int64_t before) {

@@ -416,6 +416,7 @@ TEST(SceneFile, NumbersRoundTripBitExactly) {
                          Real(16777217),
                          Real(-9.80665)};
   SceneSpec s;
+  s.soft.particles.add_particle(Vec3::Zero(), 1);  // a scene needs one
   for (Real v : values) {
     RigidSpec b;
     b.shape.kind = ShapeKind::sphere;
@@ -452,7 +453,7 @@ TEST(SceneFile, MissingKeysTakeTheCppDefaults) {
 
 TEST(SceneFile, HandRoundedQuaternionIsNormalised) {
   const SceneSpec s = parse_scene(json::parse(R"({"bodies": [{"shape": {"sphere": {}}, "mass": 1,
-      "orientation": [0.7071, 0, 0.7071, 0]}]})"),
+      "orientation": [0.7071, 0, 0.7071, 0]}], "soft": {"particles": {"positions": [[0, 0, 0]], "masses": [1]}}})"),
                                   "q", {});
   const auto& q = s.bodies[0].orientation;
   const double n =

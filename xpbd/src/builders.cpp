@@ -259,34 +259,52 @@ ClothGrid add_cloth_grid(SceneDesc& s, const ClothGridDesc& d) {
   if (d.tethers != TetherAnchors::none) {
     if (g.pinned.empty())
       throw SceneError("cloth.tethers: need at least one pinned particle to anchor to, got none");
-    // dist[a][v]: tether length from anchor a to grid particle v (local index).
+    // Lengths from one anchor at a time, so memory stays O(particles) for
+    // nearest_pinned and O(tethers) for all_pinned, however many pins.
     const std::size_t n = std::size_t(d.nx) * std::size_t(d.ny);
-    std::vector<std::vector<Real>> dist(g.pinned.size());
+    const std::size_t pins = g.pinned.size();
     const std::vector<std::array<Index, 2>> tri_edges =
         d.tether_metric == TetherMetric::geodesic ? triangle_edges(g.triangles)
                                                   : std::vector<std::array<Index, 2>>{};
-    for (std::size_t a = 0; a < g.pinned.size(); ++a) {
+    std::vector<Real> from_anchor(n);
+    auto lengths_from = [&](std::size_t a) {
       if (d.tether_metric == TetherMetric::geodesic) {
-        std::vector<Real> all = edge_path_distances(s.positions, tri_edges, g.pinned[a]);
-        dist[a].assign(all.begin() + g.first, all.begin() + g.first + Index(n));
+        const std::vector<Real> all = edge_path_distances(s.positions, tri_edges, g.pinned[a]);
+        std::copy(all.begin() + g.first, all.begin() + g.first + Index(n), from_anchor.begin());
       } else {
-        dist[a].resize(n);
         for (std::size_t v = 0; v < n; ++v)
-          dist[a][v] = (s.positions[g.first + v] - s.positions[std::size_t(g.pinned[a])]).norm();
+          from_anchor[v] = (s.positions[g.first + v] - s.positions[std::size_t(g.pinned[a])]).norm();
       }
-    }
-    for (std::size_t v = 0; v < n; ++v) {
-      if (pin[v]) continue;
-      const Index particle = g.first + Index(v);
-      if (d.tethers == TetherAnchors::all_pinned) {
-        for (std::size_t a = 0; a < g.pinned.size(); ++a)
-          s.tethers.push_back(TetherDesc{particle, g.pinned[a], dist[a][v], d.tether_mat});
-      } else {
-        std::size_t best = 0;
-        for (std::size_t a = 1; a < g.pinned.size(); ++a)
-          if (dist[a][v] < dist[best][v]) best = a;
-        s.tethers.push_back(TetherDesc{particle, g.pinned[best], dist[best][v], d.tether_mat});
+    };
+    // movable[k]: local index of the k-th movable particle.
+    std::vector<std::size_t> movable;
+    for (std::size_t v = 0; v < n; ++v)
+      if (!pin[v]) movable.push_back(v);
+    if (d.tethers == TetherAnchors::all_pinned) {
+      // length[k * pins + a], in the order the tethers are appended:
+      // particle by particle, anchors in order.
+      std::vector<Real> length(movable.size() * pins);
+      for (std::size_t a = 0; a < pins; ++a) {
+        lengths_from(a);
+        for (std::size_t k = 0; k < movable.size(); ++k) length[k * pins + a] = from_anchor[movable[k]];
       }
+      for (std::size_t k = 0; k < movable.size(); ++k)
+        for (std::size_t a = 0; a < pins; ++a)
+          s.tethers.push_back(TetherDesc{g.first + Index(movable[k]), g.pinned[a], length[k * pins + a], d.tether_mat});
+    } else {
+      // The nearest anchor (ties: the first, i.e. the lowest index).
+      std::vector<Real> best_length(movable.size());
+      std::vector<std::size_t> best(movable.size(), 0);
+      for (std::size_t a = 0; a < pins; ++a) {
+        lengths_from(a);
+        for (std::size_t k = 0; k < movable.size(); ++k)
+          if (a == 0 || from_anchor[movable[k]] < best_length[k]) {
+            best_length[k] = from_anchor[movable[k]];
+            best[k] = a;
+          }
+      }
+      for (std::size_t k = 0; k < movable.size(); ++k)
+        s.tethers.push_back(TetherDesc{g.first + Index(movable[k]), g.pinned[best[k]], best_length[k], d.tether_mat});
     }
   }
   if (d.collision_triangles)
