@@ -87,6 +87,8 @@ struct Cli {
   std::string export_format;  // "", obj, vtk
   bool preview = true;
   bool stages = false;  // --stages: per-stage time breakdown (xpbd/pbd runs)
+  bool hash = false;    // --hash: print each run's final-state hash
+  int threads = 1;      // --threads: xpbd/pbd coloured sweep
 };
 
 // The scene named on the command line: a file if it names one (or ends in
@@ -152,8 +154,15 @@ RunOutput run_one(const SceneSpec& spec, const ExpandedSoft& soft, const RunOpti
   preview.lines = soft.lines;
   Progress progress(spec.name + " (" + solver_name(opt.solver) + ")", opt.frames);
   int exported = 0;
+  // metrics.json's per-frame entries go to disk as the run makes them, so
+  // memory stays flat over any number of frames (docs/reliability.md).
+  const fs::path metrics = dir / "metrics.json";
+  JsonArraySpool per_frame(metrics);
+  RunOptions streamed = opt;
+  streamed.keep_series = false;
   auto on_frame = [&](const FrameView& v) {
     if (g_interrupted) throw Interrupted{};
+    per_frame.add(frame_json(v.frame, *v.metrics, v.frame >= 1 ? std::optional<double>(v.wall_ms) : std::nullopt));
     if (fmt && v.finite) {
       write_frame(*fmt, frame_file_path(dir, v.frame, *fmt), v.positions, soft.triangles, soft.lines, posed(v));
       ++exported;
@@ -172,13 +181,12 @@ RunOutput run_one(const SceneSpec& spec, const ExpandedSoft& soft, const RunOpti
     progress.update(v.frame);
   };
   try {
-    out.result = run_scene(spec, soft, opt, on_frame);
+    out.result = run_scene(spec, soft, streamed, on_frame);
   } catch (...) {
     progress.abort();
     throw;
   }
-  const fs::path metrics = dir / "metrics.json";
-  write_json_atomically(metrics, to_json(out.result));
+  per_frame.write(to_json(out.result), "per_frame");
   out.files.push_back(metrics.string());
   if (fmt) out.files.push_back((dir / "frames").string() + "/ (" + std::to_string(exported) + " ." +
                                extension(*fmt) + " files)");
@@ -233,6 +241,7 @@ int run(const Cli& cli) {
   if (cli.frames) base.frames = *cli.frames;
   if (cli.dt) base.dt = static_cast<xpbd::Real>(*cli.dt);
   base.stage_times = cli.stages;
+  base.threads = cli.threads;
 
   // The runs: solver, budget split, output folder. The comparison spends the
   // same budget (projections per frame) four ways: XPBD as the scene says
@@ -275,6 +284,7 @@ int run(const Cli& cli) {
     }
     RunOptions opt = base;
     opt.solver = p.solver;
+    if (p.solver == Solver::bullet) opt.threads = 1;  // btSoftBody has no threads here
     if (p.one_step) {
       opt.iterations = base.substeps * base.iterations;
       opt.substeps = 1;
@@ -287,6 +297,12 @@ int run(const Cli& cli) {
   for (const RunOutput& o : outs) print_run(o);
   for (const std::string& s : skipped) std::printf("skipped %s\n", s.c_str());
   for (const RunOutput& o : outs) print_stages(o.result);
+  if (cli.hash) {
+    std::printf("\nfinal-state hash (docs/reliability.md):\n");
+    for (const RunOutput& o : outs)
+      std::printf("  %-8s %3d x %-3d %016llx\n", solver_name(o.result.options.solver), o.result.options.substeps,
+                  o.result.options.iterations, static_cast<unsigned long long>(o.result.state_hash));
+  }
   if (comparison && outs.size() == 4) {
     std::printf("\nbtSoftBody / XPBD at the same budget:\n");
     const RunResult& x = outs[0].result;
@@ -344,6 +360,11 @@ int main(int argc, char** argv) {
   app.add_option("--export", cli.export_format, "also write every frame as obj (Blender) or vtk (ParaView)")
       ->check(CLI::IsMember({"obj", "vtk"}));
   app.add_flag("!--no-preview", cli.preview, "do not render preview.png");
+  app.add_flag("--hash", cli.hash,
+               "print a hash of each run's final state, bit for bit (particles and rigid bodies; "
+               "docs/reliability.md)");
+  app.add_option("--threads", cli.threads, "threads for the coloured sweep (xpbd/pbd, needs solver.coloured)")
+      ->check(CLI::Range(1, 256));
   app.add_flag("--stages", cli.stages,
                "time every solver stage and print ms per frame per stage (xpbd/pbd; docs/stages.md)");
   try {

@@ -4,20 +4,24 @@
 #include <BulletSoftBody/btSoftRigidDynamicsWorld.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <memory>
-#include <numeric>
 #include <sstream>
 #include <stdexcept>
 #include <type_traits>
 
+#include "demos/run_metrics.hpp"
+#include "demos/state_hash.hpp"
 #include "xpbd/compile.hpp"
 #include "xpbd/error.hpp"
 #include "xpbd/model.hpp"
 #include "xpbd/spatial_hash.hpp"
 #include "xpbd/state.hpp"
+#include "xpbd/workers.hpp"
 #include "xpbd_bullet/narrowphase.hpp"
 #include "xpbd_bullet/softbody_builder.hpp"
 #include "xpbd_bullet/world.hpp"
@@ -72,6 +76,10 @@ void validate_options(const RunOptions& o, const SceneSpec& spec) {
   if (o.solver == Solver::bullet && o.rigid_steps != 1)
     fail("rigid_steps", "applies to xpbd and pbd only (btSoftBody steps the rigid bodies at every internal "
                         "step already), got " + std::to_string(o.rigid_steps));
+  if (o.threads < 1) fail("threads", "must be >= 1, got " + std::to_string(o.threads));
+  if (o.threads > 1 && (o.solver == Solver::bullet || !spec.solver.coloured))
+    fail("threads", "more than one thread needs an xpbd or pbd run with solver.coloured = true (the threads "
+                    "share a colour's sweep), got " + std::to_string(o.threads));
   if (!(o.bullet_sdf_voxel >= Real(0)) || !std::isfinite(o.bullet_sdf_voxel))
     fail("bullet_sdf_voxel", "must be finite and >= 0 (0 = automatic), got " + num(o.bullet_sdf_voxel));
   const SolverSpec& s = spec.solver;
@@ -358,6 +366,10 @@ class XpbdSim : public SoftSim {
     s.drag = spec.solver.drag;
     s.alternate_sweeps = spec.solver.alternate_sweeps;
     s.coloured = spec.solver.coloured;
+    if (opt.threads > 1) {
+      workers_ = std::make_unique<xpbd::Workers>(opt.threads);
+      s.workers = workers_.get();
+    }
     const SoftContactSpec& c = spec.soft.contacts;
     s.contacts.enabled = !spec.bodies.empty();
     s.contacts.margin = c.margin;
@@ -399,6 +411,7 @@ class XpbdSim : public SoftSim {
   int rigid_steps_ = 1;  // Bullet steps per frame
   bool timing_ = false;
   xpbd_bullet::SystemTimes times_;  // before world_: outlives the system
+  std::unique_ptr<xpbd::Workers> workers_;  // before world_: outlives the system
   xpbd_bullet::XpbdWorld world_;  // removes its action from the world when destroyed
   xpbd_bullet::SystemId id_;
   long long projections_ = 0;
@@ -531,52 +544,6 @@ class BulletSim : public SoftSim {
   long long projections_ = 0;
 };
 
-// ms per frame of every stage with work (SystemTimes order: xpbd::step()'s
-// stages, then the bridge's), and "other" = the frames' stepping time not in
-// any stage. frame_ms: the wall time of every completed frame.
-std::vector<std::pair<std::string, double>> stage_breakdown(const xpbd_bullet::SystemTimes& t,
-                                                            const std::vector<double>& frame_ms) {
-  const double frames = double(frame_ms.size());
-  std::vector<std::pair<std::string, double>> out;
-  double staged = 0;
-  auto add = [&](const char* name, std::int64_t ns, std::int64_t calls) {
-    if (calls == 0) return;  // no work: not part of this scene's cost
-    const double ms = double(ns) * 1e-6 / frames;
-    out.emplace_back(name, ms);
-    staged += ms;
-  };
-  for (std::size_t k = 0; k < xpbd::stage::count; ++k) add(xpbd::stage_name(k), t.step.ns[k], t.step.calls[k]);
-  for (std::size_t k = 0; k < xpbd_bullet::SystemTimes::count; ++k)
-    add(xpbd_bullet::SystemTimes::name(k), t.ns[k], t.calls[k]);
-  const double total = std::accumulate(frame_ms.begin(), frame_ms.end(), 0.0) / frames;
-  out.emplace_back("other", total - staged);  // stages nest inside the frame: >= 0
-  return out;
-}
-
-void finish(RunResult& r) {
-  if (!r.frame_ms.empty()) {
-    std::vector<double> t = r.frame_ms;
-    r.wall_ms_mean = std::accumulate(t.begin(), t.end(), 0.0) / double(t.size());
-    std::sort(t.begin(), t.end());
-    const std::size_t n = t.size();
-    r.wall_ms_median = n % 2 ? t[n / 2] : (t[n / 2 - 1] + t[n / 2]) / 2;
-  }
-  double mean_sum = 0;
-  int counted = 0;
-  for (std::size_t k = 1; k < r.series.size(); ++k) {
-    const FrameMetrics& f = r.series[k];
-    if (!std::isfinite(f.max_strain)) continue;  // the non-finite last frame
-    r.max_strain = std::max(r.max_strain, f.max_strain);
-    r.max_penetration = std::max(r.max_penetration, f.max_penetration);
-    mean_sum += f.mean_strain;
-    ++counted;
-    if (f.min_particle_distance)
-      r.min_particle_distance = r.min_particle_distance ? std::min(*r.min_particle_distance, *f.min_particle_distance)
-                                                        : *f.min_particle_distance;
-  }
-  // A run that went non-finite keeps the values of its finite frames.
-  if (counted > 0) r.mean_strain = mean_sum / counted;
-}
 
 }  // namespace
 
@@ -649,6 +616,7 @@ RunResult run_scene(const SceneSpec& spec, const ExpandedSoft& soft, const RunOp
                          {"substeps", opt.substeps},
                          {"iterations", opt.iterations},
                          {"rigid_steps_per_frame", opt.rigid_steps},
+                         {"threads", opt.threads},
                          {"drag", double(spec.solver.drag)},
                          {"alternate_sweeps", spec.solver.alternate_sweeps},
                          {"coloured", spec.solver.coloured},
@@ -668,9 +636,12 @@ RunResult run_scene(const SceneSpec& spec, const ExpandedSoft& soft, const RunOp
   Measurer meas(spec, *model, rw);
   r.particle_collision = meas.particle_collision();
   std::vector<BodyPose> poses;
-  auto report = [&](int frame, bool finite) {
+  detail::Summary summary;
+  auto report = [&](int frame, bool finite, double wall_ms) {
     const double t = double(frame) * double(opt.dt);
-    r.series.push_back(meas.measure(t, sim->x(), sim->v(), finite));
+    const FrameMetrics fm = meas.measure(t, sim->x(), sim->v(), finite);
+    if (frame >= 1) summary.add(fm);
+    if (opt.keep_series) r.series.push_back(fm);
     if (!on_frame) return;
     rw.poses(poses);
     FrameView view;
@@ -679,13 +650,16 @@ RunResult run_scene(const SceneSpec& spec, const ExpandedSoft& soft, const RunOp
     view.positions = sim->x();
     view.bodies = poses;
     view.finite = finite;
-    view.metrics = &r.series.back();
+    view.metrics = &fm;
+    view.wall_ms = wall_ms;
     on_frame(view);
   };
 
-  r.series.reserve(static_cast<std::size_t>(opt.frames) + 1);
-  r.frame_ms.reserve(static_cast<std::size_t>(opt.frames));
-  report(0, all_finite(sim->x()) && all_finite(sim->v()) && rw.finite());
+  if (opt.keep_series) {
+    r.series.reserve(static_cast<std::size_t>(opt.frames) + 1);
+    r.frame_ms.reserve(static_cast<std::size_t>(opt.frames));
+  }
+  report(0, all_finite(sim->x()) && all_finite(sim->v()) && rw.finite(), 0);
   for (int f = 1; f <= opt.frames && r.finite; ++f) {
     bool ok = true;
     const auto t0 = Clock::now();
@@ -705,66 +679,22 @@ RunResult run_scene(const SceneSpec& spec, const ExpandedSoft& soft, const RunOp
       ok = false;
     }
     const auto t1 = Clock::now();
-    r.frame_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    const double ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+    if (opt.keep_series) r.frame_ms.push_back(ms);
+    summary.add_ms(ms);
     r.frames_completed = f;
     r.finite = ok;
-    report(f, ok);
+    report(f, ok, ms);
   }
-  finish(r);
-  if (const xpbd_bullet::SystemTimes* t = sim->times(); t && !r.frame_ms.empty())
-    r.stage_ms_per_frame = stage_breakdown(*t, r.frame_ms);
+  summary.apply(r);
+  rw.poses(poses);
+  r.state_hash = state_hash(sim->x(), sim->v(), poses);
+  if (const xpbd_bullet::SystemTimes* t = sim->times(); t && r.frames_completed > 0)
+    r.stage_ms_per_frame = detail::stage_breakdown(*t, double(r.frames_completed), r.wall_ms_mean);
   else if (bullet && opt.stage_times)
     r.notes.push_back("stage_times: not available for btSoftBody (it has no per-stage hooks); "
                       "only wall_ms_per_frame is measured");
   return r;
-}
-
-nlohmann::json to_json(const RunResult& r) {
-  using nlohmann::json;
-  auto opt_num = [](const std::optional<double>& v) { return v ? json(*v) : json(nullptr); };
-  json frames = json::array();
-  for (std::size_t k = 0; k < r.series.size(); ++k) {
-    const FrameMetrics& f = r.series[k];
-    json e = {{"frame", k},
-              {"time", f.time},
-              {"kinetic_energy", f.kinetic_energy},
-              {"potential_energy", f.potential_energy},
-              {"max_strain", f.max_strain},
-              {"mean_strain", f.mean_strain},
-              {"max_penetration", f.max_penetration}};
-    if (f.min_particle_distance) e["min_particle_distance"] = *f.min_particle_distance;
-    if (k >= 1 && k - 1 < r.frame_ms.size()) e["wall_ms"] = r.frame_ms[k - 1];
-    frames.push_back(std::move(e));
-  }
-  json j = {{"schema", "xpbd-demo/metrics/1"},
-            {"scene", r.scene},
-            {"solver", solver_name(r.options.solver)},
-            {"scalar", sizeof(Real) == 8 ? "double" : "float"},
-            {"dt", double(r.options.dt)},
-            {"substeps", r.options.substeps},
-            {"iterations", r.options.iterations},
-            {"frames", r.options.frames},
-            {"frames_completed", r.frames_completed},
-            {"gravity", {double(r.gravity.x()), double(r.gravity.y()), double(r.gravity.z())}},
-            {"particles", r.particles},
-            {"bodies", r.bodies},
-            {"distance_constraints", r.distance_constraints},
-            {"wall_ms_per_frame", {{"median", r.wall_ms_median}, {"mean", r.wall_ms_mean}}},
-            {"projections_per_frame", r.projections_per_frame},
-            {"max_strain", r.max_strain},
-            {"mean_strain", r.mean_strain},
-            {"max_penetration", r.max_penetration},
-            {"finite", r.finite},
-            {"solver_settings", r.solver_settings},
-            {"notes", r.notes},
-            {"per_frame", frames}};
-  if (r.particle_collision) j["min_particle_distance"] = opt_num(r.min_particle_distance);
-  if (!r.stage_ms_per_frame.empty()) {
-    json stages = json::object();
-    for (const auto& [name, ms] : r.stage_ms_per_frame) stages[name] = ms;
-    j["stage_ms_per_frame"] = std::move(stages);
-  }
-  return j;
 }
 
 }  // namespace xpbd_demos

@@ -16,6 +16,7 @@
 // The rigid bodies are the same in all three (rigid_world.hpp). Elements a
 // btSoftBody cannot express make the bullet run refuse the scene
 // (bullet_can_express says which and why) rather than run a different scene.
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <optional>
@@ -55,6 +56,15 @@ struct RunOptions {
   // scenes). Must divide substeps. Default 1: one Bullet step per frame, the
   // bridge's normal use (docs/metrics.md).
   int rigid_steps = 1;
+  // xpbd/pbd only: threads for the coloured sweep (xpbd::Workers; > 1 needs
+  // solver.coloured). The results are the same bits at every count.
+  int threads = 1;
+  // false: RunResult::series and frame_ms stay empty and the summaries are
+  // accumulated frame by frame, so memory does not grow with the frames
+  // (the frame callback still sees every frame's metrics). The summaries
+  // are the same, but wall_ms_median, which then comes from a histogram of
+  // 1%-wide bins (within 0.5%).
+  bool keep_series = true;
 };
 
 // spec.solver's method, dt, substeps, iterations and frames.
@@ -83,6 +93,7 @@ struct FrameView {
   std::span<const BodyPose> bodies;       // one per SceneSpec body, in order
   bool finite = true;                     // all particle and body states finite
   const FrameMetrics* metrics = nullptr;  // this frame's measurements
+  double wall_ms = 0;                     // ms, the frame's wall-clock time (0 for frame 0)
 };
 // Called before the first frame and after every frame (also after the frame
 // that turned non-finite, which is the last). An exception thrown by the
@@ -115,6 +126,8 @@ struct RunResult {
   std::vector<FrameMetrics> series;  // frames_completed + 1 entries, entry 0 = initial state
   nlohmann::json solver_settings;    // what the solver was configured with
   std::vector<std::string> notes;    // differences between solvers worth knowing
+  // state_hash (demos/state_hash.hpp) of the last state the run reached.
+  std::uint64_t state_hash = 0;
   // With RunOptions::stage_times (xpbd/pbd): ms per frame (mean over the
   // completed frames) of every stage that had work, in the order they run
   // (xpbd/profile.hpp, xpbd_bullet::SystemTimes), then "other": the rest of
@@ -144,7 +157,9 @@ RunResult run_scene(const SceneSpec& spec, const ExpandedSoft& soft, const RunOp
 bool bullet_can_express(const SceneSpec& spec, std::string* why = nullptr);
 bool bullet_can_express(const SceneSpec& spec, const ExpandedSoft& soft, std::string* why = nullptr);
 
-// metrics.json (docs/metrics.md).
+// metrics.json (docs/metrics.md); "per_frame" only if r.series was kept.
 nlohmann::json to_json(const RunResult& r);
+// One entry of metrics.json's "per_frame" (frame k; wall_ms from frame 1 on).
+nlohmann::json frame_json(int frame, const FrameMetrics& f, std::optional<double> wall_ms);
 
 }  // namespace xpbd_demos
