@@ -293,7 +293,8 @@ AttachmentId XpbdWorld::attach(SystemId id, Index particle, btRigidBody* body, c
   if (!in_world(world_, body)) throw xpbd::ConfigError("attach: body is not in the world");
   if (!(compliance >= Real(0)) || !std::isfinite(compliance))
     throw xpbd::ConfigError("attach: compliance must be finite and >= 0, got " + std::to_string(compliance));
-  attachments_.push_back(Attachment{next_attachment_, id.value, particle, body, local, compliance});
+  attachments_.push_back(
+      Attachment{next_attachment_, id.value, particle, body, local, compliance, BodyIdentity::of(body)});
   return AttachmentId(next_attachment_++);
 }
 
@@ -301,6 +302,22 @@ void XpbdWorld::remove_attachment(AttachmentId attachment_id) {
   const auto n = std::erase_if(attachments_, [&](const Attachment& a) { return a.id == attachment_id.value; });
   if (n == 0)
     throw std::out_of_range("remove_attachment: no attachment with id " + std::to_string(attachment_id.value));
+}
+
+bool XpbdWorld::has_attachment(AttachmentId attachment_id) const {
+  return std::any_of(attachments_.begin(), attachments_.end(),
+                     [&](const Attachment& a) { return a.id == attachment_id.value; });
+}
+
+void XpbdWorld::drop_departed_bodies() {
+  if (attachments_.empty() && predicted_.empty()) return;
+  const auto& arr = world_.getCollisionObjectArray();
+  live_.resize(std::size_t(arr.size()));
+  for (int i = 0; i < arr.size(); ++i) live_[std::size_t(i)] = arr[i];
+  std::sort(live_.begin(), live_.end());
+  stats_.dropped_attachments +=
+      int(std::erase_if(attachments_, [&](const Attachment& a) { return !a.identity.alive(live_); }));
+  std::erase_if(predicted_, [&](const Predicted& p) { return !p.identity.alive(live_); });
 }
 
 const std::string& XpbdWorld::error(SystemId id) const { return system(id).error; }
@@ -345,6 +362,14 @@ void XpbdWorld::run_systems(btScalar dt) {
   stats_ = {};
   shadows_.clear();
   residuals_.clear();
+  drop_departed_bodies();
+  // A step length the solver cannot use (stepSimulation(dt, 0) passes any
+  // dt on): no system steps, and the next good step goes on from here.
+  if (!(dt > 0) || !std::isfinite(dt)) {
+    stats_.bad_dt = 1;
+    for (auto& s : systems_) s->stepped = false;
+    return;
+  }
   // The broadphase boxes are from the last collision detection, before the
   // bodies were integrated: bring them to the bodies' current poses.
   const bool collides = std::any_of(systems_.begin(), systems_.end(), [](const auto& s) {
@@ -477,7 +502,7 @@ void XpbdWorld::updateAction(btCollisionWorld* cw, btScalar dt) {
     btVector3 dv = rb->getLinearVelocity() - r.v_pre;
     btVector3 dw = rb->getAngularVelocity() - r.w_pre;
     if (r.world_contacts) remove_static_contact_impulses(rb, cw, dv, dw);
-    predicted_.push_back(Predicted{rb, to_vec(dv / dt), to_vec(dw / dt)});
+    predicted_.push_back(Predicted{rb, BodyIdentity::of(rb), to_vec(dv / dt), to_vec(dw / dt)});
   }
   residuals_.clear();
   release_spacers();

@@ -1,4 +1,5 @@
 #pragma once
+#include <algorithm>
 // XpbdWorld's private state, shared by world.cpp (lifecycle, hook, hand-over
 // to Bullet) and world_contacts.cpp (shadow bodies, contact search, the
 // XPBD step of one system). Internal to the bridge.
@@ -138,6 +139,27 @@ struct XpbdWorld::System {
   std::vector<Vec3> pins_asleep;             // State::pin_target when it fell asleep
 };
 
+// Who a body is, beyond its address (which a deleted body's successor may
+// reuse): the broadphase proxy it got when it was added to the world, and
+// that proxy's unique id. A body removed from the world and added again (or
+// a new body at a reused address) has another.
+struct BodyIdentity {
+  const btCollisionObject* obj = nullptr;
+  const btBroadphaseProxy* proxy = nullptr;
+  int uid = -1;
+  static BodyIdentity of(const btCollisionObject* o) {
+    const btBroadphaseProxy* p = o->getBroadphaseHandle();
+    return {o, p, p ? p->m_uniqueId : -1};
+  }
+  // `live`: the world's objects, sorted; the body is dereferenced only if
+  // its address is among them.
+  bool alive(const std::vector<const btCollisionObject*>& live) const {
+    if (!std::binary_search(live.begin(), live.end(), obj)) return false;
+    const btBroadphaseProxy* p = obj->getBroadphaseHandle();
+    return p == proxy && p != nullptr && p->m_uniqueId == uid;
+  }
+};
+
 struct XpbdWorld::Attachment {
   int id = 0;
   int system = 0;
@@ -145,6 +167,7 @@ struct XpbdWorld::Attachment {
   btRigidBody* body = nullptr;
   btVector3 local;
   Real compliance = 0;
+  BodyIdentity identity;  // body when attached
 };
 
 // What the hand-over expects of Bullet's step for one coupled body, and
@@ -180,6 +203,7 @@ struct XpbdWorld::Residual {
 // inside XPBD, and anything that pushes it up lifts it).
 struct XpbdWorld::Predicted {
   const btRigidBody* body = nullptr;
+  BodyIdentity identity;
   Vec3 accel = Vec3::Zero(), ang_accel = Vec3::Zero();
 };
 

@@ -234,6 +234,12 @@ struct StepStats {
   // Contact points added to Bullet between two bodies with cloth between
   // them (ContactSettings::spacers), summed over systems.
   int spacers = 0;
+  // 1 if the step's length was not finite and > 0 (stepSimulation(dt, 0)
+  // passes any dt on): no system was stepped, nothing was thrown.
+  int bad_dt = 0;
+  // Attachments ended in this step because their body had left the world
+  // (XpbdWorld::attach).
+  int dropped_attachments = 0;
 };
 
 // Typed ids: a system's id and an attachment's id cannot be mixed up (nor
@@ -294,10 +300,19 @@ class XpbdWorld : public btActionInterface {
   // Attaches particle `particle` of system `id` to the point `local` (m, in
   // the body's centre-of-mass frame) of `body`: two-way if the body is
   // dynamic, one-way if it is static or kinematic. Returns an attachment id.
-  // The body must be in the world; remove the attachment before deleting it.
+  // The body must be in the world. An attachment ends at the first step
+  // after its body has left the world (removed; removed and deleted; also
+  // removed and added again, as Bullet's way to change a body's filter:
+  // attach again): StepStats::dropped_attachments counts it and
+  // has_attachment says false. A deleted body is never read, and a new body
+  // at its address does not take its attachments over: a body is known by
+  // the broadphase proxy it got when added, not by its address alone
+  // (docs/bullet-bridge.md).
   AttachmentId attach(SystemId id, xpbd::Index particle, btRigidBody* body, const btVector3& local,
              xpbd::Real compliance = 0);
   void remove_attachment(AttachmentId attachment_id);
+  // Whether the attachment exists (not removed, not ended with its body).
+  bool has_attachment(AttachmentId attachment_id) const;
 
   // Why system `id`'s step failed ("" while it has not): the system is then
   // frozen, and nothing was thrown out of stepSimulation. Throws
@@ -445,6 +460,10 @@ class XpbdWorld : public btActionInterface {
   std::vector<Residual> residuals_;  // applied by the next updateAction
   std::vector<Predicted> predicted_;  // Bullet's contact accelerations of the last step
   std::vector<SystemId> callback_ids_;  // scratch: systems with a step callback
+  std::vector<const btCollisionObject*> live_;  // scratch: the world's objects, sorted
+  // Ends the attachments (and forgets the predictions) of bodies that have
+  // left the world; run at the start of every step.
+  void drop_departed_bodies();
   // Scratch, reused across steps.
   std::vector<const btCollisionObject*> candidates_;
   std::vector<const btCollisionObject*> refresh_candidates_;  // refresh_contacts' own

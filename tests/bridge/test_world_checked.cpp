@@ -1,0 +1,148 @@
+// Checked steps: what XpbdWorld does with a step length it cannot use, and
+// with an attachment whose body has left the world (removed, or removed and
+// deleted, its address perhaps reused by a new body). In the bridge label,
+// so it also runs under AddressSanitizer: the deleted body must never be
+// read.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <new>
+#include <stdexcept>
+#include <vector>
+
+#include "../integration/support.hpp"
+
+namespace {
+
+using namespace xpbd_bullet::test;
+using xpbd_bullet::XpbdWorld;
+
+// A 4-particle rope hanging from a fixed point, with contacts on (a ground
+// plane far below): stepped, its free end falls.
+System rope() {
+  xpbd::SceneDesc scene;
+  xpbd::RopeDesc r;
+  r.n = 4;
+  r.start = Vec3(0, 2, 0);
+  r.dir = Vec3(1, 0, 0);
+  r.spacing = Real(0.1);
+  r.mass = Real(0.04);
+  r.pin_first = true;
+  xpbd::add_rope(scene, r);
+  return make_system(scene);
+}
+
+// A step whose length is not finite and > 0 (stepSimulation(dt, 0) passes
+// it to the internal step as it is) steps no system: the particles stay
+// where they were, nothing is thrown, StepStats::bad_dt says so, and the
+// next good step goes on as if it had not happened. Before, the step of
+// every system failed ("StepConfig.dt: must be finite and > 0") and the
+// systems stayed frozen for good.
+TEST(WorldChecked, StepLengthNotFiniteAndPositiveStepsNothing) {
+  BulletWorld bw;
+  bw.add_body(new btStaticPlaneShape(btVector3(0, 1, 0), 0), 0, BulletWorld::at(Vec3::Zero()));
+  XpbdWorld xw(bw.world());
+  System s = rope();
+  const auto id = xw.add_system(s.model, s.state);
+  bw.step();
+  const std::vector<Vec3> before = xw.state(id).x;
+  for (const btScalar dt : {-kDt, std::numeric_limits<btScalar>::quiet_NaN(),
+                            std::numeric_limits<btScalar>::infinity()}) {
+    EXPECT_NO_THROW(bw.world().stepSimulation(dt, 0));
+    EXPECT_EQ(xw.last_stats().bad_dt, 1) << dt;
+    EXPECT_EQ(xw.error(id), "") << dt;
+    EXPECT_EQ(xw.state(id).x, before) << dt;
+  }
+  bw.step();
+  EXPECT_EQ(xw.last_stats().bad_dt, 0);
+  EXPECT_EQ(xw.error(id), "");
+  EXPECT_LT(xw.state(id).x[3].y(), before[3].y());  // it fell
+}
+
+// A body removed from the world and deleted ends its attachments at the
+// next step and is never read again (under AddressSanitizer a read is a
+// use-after-free).
+TEST(WorldChecked, AttachmentEndsWhenItsBodyIsDeleted) {
+  BulletWorld bw;
+  XpbdWorld xw(bw.world());
+  System s = rope();
+  const auto id = xw.add_system(s.model, s.state);
+  btRigidBody* box = bw.add_body(new btBoxShape(btVector3(0.05f, 0.05f, 0.05f)), 1,
+                                 BulletWorld::at(Vec3(Real(0.35), 2, 0)));
+  const auto att = xw.attach(id, 3, box, btVector3(0, 0, 0));
+  bw.step();
+  ASSERT_TRUE(xw.has_attachment(att));
+  bw.remove_and_delete(box);
+  bw.step();
+  EXPECT_FALSE(xw.has_attachment(att));
+  EXPECT_EQ(xw.last_stats().dropped_attachments, 1);
+  EXPECT_EQ(xw.error(id), "");
+  EXPECT_THROW(xw.remove_attachment(att), std::out_of_range);
+  bw.step();
+  EXPECT_EQ(xw.last_stats().dropped_attachments, 0);
+}
+
+// A new body built at a deleted body's address (placement new into the same
+// storage: what an allocator that reuses the block does) does not take the
+// attachment over. With bodies known by address alone (the check switched
+// off), the rope's end moved 11.7 m towards the new body in one step, and
+// the new body 38 m towards the rope.
+TEST(WorldChecked, NewBodyAtADeletedBodysAddressDoesNotTakeItsAttachment) {
+  BulletWorld bw;
+  XpbdWorld xw(bw.world());
+  System s = rope();
+  const auto id = xw.add_system(s.model, s.state);
+  btBoxShape shape(btVector3(0.05f, 0.05f, 0.05f));
+  btVector3 inertia(0, 0, 0);
+  shape.calculateLocalInertia(1, inertia);
+  alignas(alignof(btRigidBody)) unsigned char storage[sizeof(btRigidBody)];
+  auto make = [&](const Vec3& at) {
+    btRigidBody::btRigidBodyConstructionInfo info(1, nullptr, &shape, inertia);
+    info.m_startWorldTransform = BulletWorld::at(at);
+    auto* b = new (storage) btRigidBody(info);
+    b->setActivationState(DISABLE_DEACTIVATION);
+    bw.world().addRigidBody(b);
+    return b;
+  };
+  btRigidBody* box = make(Vec3(Real(0.35), 2, 0));
+  const auto att = xw.attach(id, 3, box, btVector3(0, 0, 0));
+  bw.step();
+  bw.world().removeRigidBody(box);
+  box->~btRigidBody();
+  btRigidBody* other = make(Vec3(50, 2, 0));
+  ASSERT_EQ(static_cast<void*>(other), static_cast<void*>(box));
+  bw.step();
+  EXPECT_FALSE(xw.has_attachment(att));
+  EXPECT_EQ(xw.last_stats().dropped_attachments, 1);
+  // The rope's end hangs where it was, one step of fall from the box's place.
+  EXPECT_LT((xw.state(id).x[3] - Vec3(Real(0.3), 2, 0)).norm(), Real(0.1));
+  EXPECT_LT(other->getCenterOfMassPosition().distance(btVector3(50, 2, 0)), btScalar(0.01));
+  bw.world().removeRigidBody(other);
+  other->~btRigidBody();
+}
+
+// Removed and added again (Bullet's way to change a body's filter): the
+// attachment has ended all the same, and says so; attach again to keep it.
+TEST(WorldChecked, BodyAddedAgainNeedsANewAttachment) {
+  BulletWorld bw;
+  XpbdWorld xw(bw.world());
+  System s = rope();
+  const auto id = xw.add_system(s.model, s.state);
+  btRigidBody* box = bw.add_body(new btBoxShape(btVector3(0.05f, 0.05f, 0.05f)), 1,
+                                 BulletWorld::at(Vec3(Real(0.35), 2, 0)));
+  const auto att = xw.attach(id, 3, box, btVector3(0, 0, 0));
+  bw.step();
+  bw.world().removeRigidBody(box);
+  bw.world().addRigidBody(box);
+  bw.step();
+  EXPECT_FALSE(xw.has_attachment(att));
+  EXPECT_EQ(xw.last_stats().dropped_attachments, 1);
+  const auto again = xw.attach(id, 3, box, btVector3(0, 0, 0));
+  bw.step();
+  EXPECT_TRUE(xw.has_attachment(again));
+  EXPECT_EQ(xw.last_stats().dropped_attachments, 0);
+}
+
+}  // namespace
