@@ -1,13 +1,18 @@
-// Output files that cannot lie (demos/output.hpp): a text written to a full
-// disk is an error naming the file, never a file listed as written, and an
-// output directory that cannot take files is refused before a run.
+// Output files that cannot lie (demos/output.hpp): a text written, or an
+// array spooled (JsonArraySpool), to a full disk is an error naming the
+// file, never a file listed as written, and an output directory that
+// cannot take files is refused before a run.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cstddef>
 #include <filesystem>
+#include <iterator>
 #include <fstream>
 #include <stdexcept>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 #include "demos/output.hpp"
 
@@ -54,6 +59,45 @@ TEST_F(Output, TextOnAFullDiskIsAnErrorNamingTheFile) {
   write_text_atomically(f, "old\n");
   fs::create_symlink("/dev/full", dir_ / (".metrics.json.tmp." + std::to_string(::getpid())));
   const std::string msg = what_of([&] { write_text_atomically(f, std::string(100000, 'x')); });
+  EXPECT_NE(msg.find(f.string()), std::string::npos) << msg;
+  EXPECT_EQ(read_file(f), "old\n");
+}
+
+// A spooled array comes out as the last member of its object, every
+// element in order, and the spool leaves no temporary file behind.
+TEST_F(Output, SpooledArrayIsTheLastMemberWithEveryElement) {
+  const fs::path f = dir_ / "metrics.json";
+  {
+    JsonArraySpool spool(f);
+    for (int k = 0; k < 5; ++k) spool.add({{"frame", k}, {"x", 0.5 * k}});
+    spool.write({{"scene", "s"}, {"frames", 5}}, "per_frame");
+  }
+  const nlohmann::json j = nlohmann::json::parse(read_file(f));
+  EXPECT_EQ(j["scene"], "s");
+  ASSERT_EQ(j["per_frame"].size(), 5u);
+  for (int k = 0; k < 5; ++k) EXPECT_EQ(j["per_frame"][std::size_t(k)]["frame"], k);
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 1);
+  // Empty array, empty head.
+  {
+    JsonArraySpool spool(f);
+    spool.write(nlohmann::json::object(), "per_frame");
+  }
+  EXPECT_EQ(nlohmann::json::parse(read_file(f)), nlohmann::json({{"per_frame", nlohmann::json::array()}}));
+  // A run that stops before write() (interrupted) leaves neither file.
+  { JsonArraySpool spool(dir_ / "other.json"); spool.add(1); }
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 1);
+}
+
+// The same full disk for a spooled file: an error naming it, the old file
+// kept.
+TEST_F(Output, SpooledFileOnAFullDiskIsAnErrorNamingIt) {
+  ASSERT_TRUE(fs::exists("/dev/full"));
+  const fs::path f = dir_ / "metrics.json";
+  write_text_atomically(f, "old\n");
+  fs::create_symlink("/dev/full", dir_ / (".metrics.json.tmp." + std::to_string(::getpid())));
+  JsonArraySpool spool(f);
+  for (int k = 0; k < 1000; ++k) spool.add({{"frame", k}});
+  const std::string msg = what_of([&] { spool.write({{"a", 1}}, "per_frame"); });
   EXPECT_NE(msg.find(f.string()), std::string::npos) << msg;
   EXPECT_EQ(read_file(f), "old\n");
 }

@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# The fuzz targets of tests/fuzz (docs/reliability.md):
+#   fuzz_scene_file  a scene file through parsing, validation and 2 frames
+#   fuzz_obj         the OBJ reader
+#   fuzz_world       the embedding API driven by a byte stream
+#
+#   scripts/fuzz.sh [RUNS] [TARGET...]
+#
+# Builds build/fuzz with clang (libFuzzer, AddressSanitizer, UBSan) and runs
+# each target (default: all three) for RUNS executions (default 2000, the
+# short run of scripts/test.sh; a campaign: 1000000) from its seed corpus
+# tests/fuzz/corpus/<target> (plus the scene examples and the malformed
+# corpus for fuzz_scene_file). New inputs go to build/fuzz/corpus/<target>,
+# which later runs continue from. A crash, sanitizer report, leak or timeout
+# stops the run with a non-zero status and leaves the input in
+# build/fuzz/artifacts/. The mutations follow FUZZ_SEED (default 1, so a
+# run from the committed corpus is reproducible; 0 = a random seed).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+runs="${1:-2000}"
+shift || true
+targets=("$@")
+[ ${#targets[@]} -gt 0 ] || targets=(scene_file obj world)
+if ! command -v clang++ >/dev/null; then
+  echo "fuzz: clang++ not found (Debian: apt-get install clang)" >&2
+  exit 2
+fi
+cmake -S . -B build/fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" -DXPBD_FUZZ=ON -DXPBD_BUILD_TESTS=OFF \
+  -DXPBD_BUILD_BENCHMARKS=OFF >/dev/null
+cmake --build build/fuzz -j"$(nproc)" --target "${targets[@]/#/fuzz_}"
+mkdir -p build/fuzz/artifacts
+for t in "${targets[@]}"; do
+  corpus="build/fuzz/corpus/$t"
+  mkdir -p "$corpus"
+  cp tests/fuzz/corpus/"$t"/* "$corpus"/
+  if [ "$t" = scene_file ]; then
+    cp docs/scene-example.json "$corpus"/
+    for f in tests/demos/malformed/*.json; do cp "$f" "$corpus/malformed-$(basename "$f")"; done
+  fi
+  echo "fuzz_$t: $runs runs"
+  log="build/fuzz/fuzz_$t.log"
+  if ! ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+    "build/fuzz/tests/fuzz/fuzz_$t" -runs="$runs" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
+    -print_final_stats=1 -seed="${FUZZ_SEED:-1}" -artifact_prefix="build/fuzz/artifacts/$t-" "$corpus" >"$log" 2>&1; then
+    tail -n 60 "$log" >&2
+    echo "fuzz_$t: failed (log $log); the input is in build/fuzz/artifacts/" >&2
+    exit 1
+  fi
+  grep -E '^stat::(number_of_executed_units|average_exec_per_sec|peak_rss_mb)' "$log"
+done
