@@ -41,7 +41,7 @@ for t in "${targets[@]}"; do
   echo "fuzz_$t: $runs runs"
   log="build/fuzz/fuzz_$t.log"
   if ! ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
-    "build/fuzz/tests/fuzz/fuzz_$t" -runs="$runs" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
+    "build/fuzz/tests/fuzz/fuzz_$t" -runs="$runs" -timeout=60 -rss_limit_mb=2048 -max_len=65536 \
     -print_final_stats=1 -seed="${FUZZ_SEED:-1}" -artifact_prefix="build/fuzz/artifacts/$t-" "$corpus" >"$log" 2>&1; then
     tail -n 60 "$log" >&2
     echo "fuzz_$t: failed (log $log); the input is in build/fuzz/artifacts/" >&2
