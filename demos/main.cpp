@@ -7,7 +7,8 @@
 //   xpbd-demo SCENE|FILE [options]  one scene, one solver (or --solver all)
 //
 // Exit status: 0 success; 1 the run or an output failed (or the state went
-// non-finite); 2 bad input (command line or scene); 130 interrupted.
+// non-finite); 2 bad input (command line or scene); 3 a run diverged (status
+// over_stretched or exploded, docs/metrics.md); 130 interrupted.
 #include <CLI/CLI.hpp>
 #include <unistd.h>
 
@@ -36,7 +37,7 @@ namespace {
 using namespace xpbd_demos;
 namespace fs = std::filesystem;
 
-constexpr int kOk = 0, kRunFailed = 1, kBadInput = 2, kInterrupted = 130;
+constexpr int kOk = 0, kRunFailed = 1, kBadInput = 2, kDiverged = 3, kInterrupted = 130;
 
 std::atomic<bool> g_interrupted{false};
 extern "C" void on_signal(int) { g_interrupted = true; }
@@ -205,12 +206,12 @@ void print_run(const RunOutput& o) {
   const RunResult& r = o.result;
   std::printf("%-8s %3d x %-3d %9.3f %11lld %11.3e %11.3e %10.3e  %s\n", solver_name(r.options.solver),
               r.options.substeps, r.options.iterations, r.wall_ms_median, r.projections_per_frame,
-              r.max_strain, r.mean_strain, r.max_penetration, r.finite ? "yes" : "NO");
+              r.max_strain, r.mean_strain, r.max_penetration, r.status.c_str());
 }
 
 void print_header() {
   std::printf("%-8s %-9s %9s %11s %11s %11s %10s  %s\n", "solver", "budget", "ms/frame", "proj/frame",
-              "strain max", "strain mean", "penetr. m", "finite");
+              "strain max", "strain mean", "penetr. m", "status");
 }
 
 // --stages: ms per frame of every stage the run used (docs/stages.md).
@@ -331,6 +332,14 @@ int run(const Cli& cli) {
       std::fprintf(stderr, "xpbd-demo: %s (%s): the state became non-finite after frame %d\n", spec.name.c_str(),
                    solver_name(o.result.options.solver), o.result.frames_completed);
       status = kRunFailed;
+    } else if (o.result.status != "ok") {
+      std::fprintf(stderr,
+                   "xpbd-demo: %s (%s %d x %d): %s: largest strain %.3g (bound %.3g), largest kinetic energy %.3g "
+                   "times what the scene can have given it (bound %.3g)\n",
+                   spec.name.c_str(), solver_name(o.result.options.solver), o.result.options.substeps,
+                   o.result.options.iterations, o.result.status.c_str(), o.result.max_strain,
+                   o.result.options.health.max_strain, o.result.energy_ratio, o.result.options.health.energy_factor);
+      if (status == kOk) status = kDiverged;
     }
   }
   std::printf("metrics fields and units: docs/metrics.md\n");

@@ -67,6 +67,11 @@ nlohmann::json to_json(const RunResult& r) {
             {"mean_strain", r.mean_strain},
             {"max_penetration", r.max_penetration},
             {"finite", r.finite},
+            {"status", r.status},
+            {"energy_ratio", r.energy_ratio},
+            {"status_thresholds",
+             {{"max_strain", r.options.health.max_strain}, {"energy_factor", r.options.health.energy_factor},
+              {"energy_floor", r.options.health.energy_floor}}},
             {"solver_settings", r.solver_settings},
             {"notes", r.notes}};
   if (!r.series.empty()) j["per_frame"] = std::move(frames);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "demos/scene_runner.hpp"
+#include "xpbd/health.hpp"
 #include "xpbd_bullet/world.hpp"
 
 namespace xpbd_demos::detail {
@@ -28,8 +29,23 @@ class Summary {
  public:
   // Frame k >= 1; a non-finite last frame is skipped (a run that went
   // non-finite keeps the values of its finite frames).
+  // The initial state (frame 0): the energy budget's start.
+  void start(const FrameMetrics& f0) {
+    health_.kinetic0 = f0.kinetic_energy;
+    health_.potential0 = health_.potential_min = f0.potential_energy;
+    if (!std::isfinite(f0.kinetic_energy) || !std::isfinite(f0.potential_energy)) health_.finite = false;
+  }
+  // J: energy the scene can put in from outside over the run (moving
+  // kinematic bodies), added to the budget.
+  void set_energy_input(double e) { health_.energy_input = e; }
   void add(const FrameMetrics& f) {
-    if (!std::isfinite(f.max_strain)) return;
+    if (!std::isfinite(f.max_strain) || !std::isfinite(f.kinetic_energy) || !std::isfinite(f.potential_energy)) {
+      health_.finite = false;
+      return;
+    }
+    health_.max_strain = std::max(health_.max_strain, f.max_strain);
+    health_.kinetic_max = std::max(health_.kinetic_max, f.kinetic_energy);
+    health_.potential_min = std::min(health_.potential_min, f.potential_energy);
     max_strain_ = std::max(max_strain_, f.max_strain);
     max_penetration_ = std::max(max_penetration_, f.max_penetration);
     mean_sum_ += f.mean_strain;
@@ -52,6 +68,10 @@ class Summary {
     r.max_penetration = max_penetration_;
     if (counted_ > 0) r.mean_strain = mean_sum_ / counted_;
     r.min_particle_distance = min_distance_;
+    xpbd::HealthObservation h = health_;
+    h.finite = h.finite && r.finite;
+    r.status = xpbd::health_name(xpbd::classify(h, r.options.health));
+    r.energy_ratio = h.kinetic_max / xpbd::energy_budget(h, r.options.health);
   }
 
  private:
@@ -77,6 +97,7 @@ class Summary {
   int counted_ = 0;
   std::uint64_t ms_count_ = 0;
   std::optional<double> min_distance_;
+  xpbd::HealthObservation health_;
   std::array<std::uint64_t, kBins> bins_{};
 };
 

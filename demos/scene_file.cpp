@@ -144,7 +144,7 @@ using Keys = std::initializer_list<const char*>;
 // clang-format off
 constexpr Keys kTopKeys{"name", "description", "solver", "soft", "bodies", "attachments"};
 constexpr Keys kSolverKeys{"method", "dt", "substeps", "iterations", "frames", "drag", "alternate_sweeps",
-                           "coloured", "gravity", "bullet_kLST"};
+                           "coloured", "gravity", "bullet_kLST", "max_strain"};
 constexpr Keys kSoftKeys{"particles", "generators", "contacts", "distances", "collisions", "pins", "planes",
                      "penetrations", "dihedral_bends", "isometric_bends", "tets", "tethers",
                      "global_volumes", "self_collision", "collision_triangles"};
@@ -412,6 +412,10 @@ SolverSpec read_solver(const Ctx& c, const json& v, const std::string& path) {
   o.real("bullet_kLST", s.bullet_kLST);
   c.require(s.bullet_kLST > Real(0) && s.bullet_kLST <= Real(1), o.at("bullet_kLST"),
             "must be in (0, 1], got " + num(s.bullet_kLST));
+  Real max_strain = Real(s.max_strain);
+  o.real("max_strain", max_strain);
+  positive(c, max_strain, o.at("max_strain"));
+  s.max_strain = double(max_strain);
   return s;
 }
 
@@ -1464,7 +1468,8 @@ json to_json(const SceneSpec& s) {
                  {"alternate_sweeps", v.alternate_sweeps},
                  {"coloured", v.coloured},
                  {"gravity", out_vec(v.gravity)},
-                 {"bullet_kLST", out_real(v.bullet_kLST)}};
+                 {"bullet_kLST", out_real(v.bullet_kLST)},
+                 {"max_strain", v.max_strain}};
   j["soft"] = out_soft(s.soft);
   json bodies = json::array();
   for (const RigidSpec& b : s.bodies) {

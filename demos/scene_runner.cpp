@@ -88,6 +88,7 @@ void validate_options(const RunOptions& o, const SceneSpec& spec) {
   if (!s.gravity.allFinite()) fail("gravity", "must be finite");
   if (!(s.bullet_kLST > Real(0) && s.bullet_kLST <= Real(1)))
     fail("bullet_kLST", "must be in (0, 1], got " + num(s.bullet_kLST));
+  xpbd::validate(o.health, "solver.");
 }
 
 void validate_contacts(const SoftContactSpec& c) {
@@ -547,6 +548,31 @@ class BulletSim : public SoftSim {
 
 }  // namespace
 
+// The energy moving kinematic bodies can give the rest of the scene, for the
+// status's energy budget (J): 2 M v^2, M the mass of everything that moves
+// (movable particles and dynamic bodies) and v the fastest speed of a point
+// of a kinematic body (|v| + |w| times its bounding sphere's reach from its
+// centre of mass). A mass hit by a wall moving at v leaves at most 2v faster;
+// 1/2 M (2v)^2 is that for all of it. 0 without kinematic bodies.
+static double kinematic_energy_input(const SceneSpec& spec, const xpbd::Model& model, RigidWorld& rw) {
+  double v = 0;
+  for (std::size_t b = 0; b < spec.bodies.size(); ++b) {
+    const RigidSpec& s = spec.bodies[b];
+    if (!s.kinematic) continue;
+    btVector3 centre;
+    btScalar radius = 0;
+    rw.body(int(b)).getCollisionShape()->getBoundingSphere(centre, radius);
+    v = std::max(v, double(s.velocity.norm()) + double(s.angular_velocity.norm()) * (double(radius) + double(centre.length())));
+  }
+  if (v == 0) return 0;
+  double mass = 0;
+  for (const Real w : model.inv_mass)
+    if (w > Real(0)) mass += double(Real(1) / w);
+  for (int b = 0; b < rw.num_bodies(); ++b)
+    if (rw.is_dynamic(b)) mass += 1.0 / double(rw.body(b).getInvMass());
+  return 2 * mass * v * v;
+}
+
 RunOptions run_options(const SceneSpec& spec) {
   RunOptions o;
   o.solver = spec.solver.method;
@@ -554,6 +580,7 @@ RunOptions run_options(const SceneSpec& spec) {
   o.substeps = spec.solver.substeps;
   o.iterations = spec.solver.iterations;
   o.frames = spec.solver.frames;
+  o.health.max_strain = spec.solver.max_strain;
   return o;
 }
 
@@ -637,10 +664,12 @@ RunResult run_scene(const SceneSpec& spec, const ExpandedSoft& soft, const RunOp
   r.particle_collision = meas.particle_collision();
   std::vector<BodyPose> poses;
   detail::Summary summary;
+  summary.set_energy_input(kinematic_energy_input(spec, *model, rw));
   auto report = [&](int frame, bool finite, double wall_ms) {
     const double t = double(frame) * double(opt.dt);
     const FrameMetrics fm = meas.measure(t, sim->x(), sim->v(), finite);
     if (frame >= 1) summary.add(fm);
+    else summary.start(fm);
     if (opt.keep_series) r.series.push_back(fm);
     if (!on_frame) return;
     rw.poses(poses);

@@ -29,6 +29,7 @@
 
 #include "demos/rigid_world.hpp"
 #include "demos/scene_spec.hpp"
+#include "xpbd/health.hpp"
 
 namespace xpbd_demos {
 
@@ -65,6 +66,10 @@ struct RunOptions {
   // are the same, but wall_ms_median, which then comes from a histogram of
   // 1%-wide bins (within 0.5%).
   bool keep_series = true;
+  // What decides RunResult::status (xpbd/health.hpp): max_strain comes
+  // from the scene (solver.max_strain); the rest are the library's
+  // defaults (energy factor 10, floor 1e-3 J, no distance bound).
+  xpbd::HealthThresholds health;
 };
 
 // spec.solver's method, dt, substeps, iterations and frames.
@@ -123,6 +128,13 @@ struct RunResult {
   double mean_strain = 0;      // 1, mean of the per-frame mean_strain
   double max_penetration = 0;  // m, largest per-frame max_penetration
   std::optional<double> min_particle_distance;  // m, smallest per-frame value (when on)
+  // The run classified over all its frames (xpbd::classify with
+  // options.health; docs/metrics.md, "status"): "ok", "over_stretched",
+  // "exploded" or "nonfinite".
+  std::string status = "ok";
+  // Largest kinetic energy over the energy budget (xpbd::energy_budget):
+  // above options.health.energy_factor the run is "exploded".
+  double energy_ratio = 0;
   std::vector<FrameMetrics> series;  // frames_completed + 1 entries, entry 0 = initial state
   nlohmann::json solver_settings;    // what the solver was configured with
   std::vector<std::string> notes;    // differences between solvers worth knowing

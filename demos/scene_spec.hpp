@@ -51,6 +51,10 @@ struct SolverSpec {
   // projections per frame (docs/design.md section 5). kLST is btSoftBody's link
   // stiffness in (0, 1] (dimensionless).
   xpbd::Real bullet_kLST = 1;
+  // The run's status (xpbd/health.hpp, metrics.json "status"): over_stretched
+  // once some Distance element's strain |len/rest - 1| exceeds this (> 0;
+  // 1 = an edge twice its rest length).
+  double max_strain = 1;
 };
 
 // ---------------------------------------------------------------------------

@@ -25,34 +25,21 @@ using xpbd_demos::RunOptions;
 using xpbd_demos::SceneSpec;
 using xpbd_demos::Solver;
 
-const char* outcome_name(Outcome o) {
-  switch (o) {
-    case Outcome::stable: return "stable";
-    case Outcome::over_stretched: return "over_stretched";
-    case Outcome::exploded: return "exploded";
-    case Outcome::nan: return "nan";
-    case Outcome::tunnelled: return "tunnelled";
-  }
-  return "?";
+Thresholds map_thresholds() {
+  Thresholds t;
+  t.max_strain = 0.1;
+  t.energy_factor = 10;
+  t.energy_floor = 1e-3;
+  t.bound = 10;
+  return t;
 }
 
-Outcome classify(const Observation& o, const Thresholds& t) {
-  if (!o.finite || !std::isfinite(o.max_strain) || !std::isfinite(o.kinetic_max) || !std::isfinite(o.max_escape))
-    return Outcome::nan;
-  // Energy conservation bounds the kinetic energy by the initial kinetic
-  // energy plus the potential energy released so far; solver damping only
-  // lowers it. A run whose kinetic energy exceeds that budget many times
-  // over has gained energy from the solver.
-  const double released = std::max(0.0, o.potential0 - o.potential_min);
-  const double budget = o.kinetic0 + released + t.energy_floor;
-  if (o.kinetic_max > t.energy_factor * budget) return Outcome::exploded;
-  // A particle that went through the plate keeps flying (energy is
-  // conserved, but it ends far away): the geometric check comes before the
-  // distance bound.
-  if (o.tunnelled > 0) return Outcome::tunnelled;
-  if (o.max_escape > t.bound + o.reach) return Outcome::exploded;
-  if (o.max_strain > t.max_strain) return Outcome::over_stretched;
-  return Outcome::stable;
+const char* outcome_name(Outcome o) {
+  switch (o) {
+    case Outcome::ok: return "stable";
+    case Outcome::nonfinite: return "nan";
+    default: return xpbd::health_name(o);
+  }
 }
 
 double outside_distance(const Vec3& p, const Vec3& lo, const Vec3& hi) {
@@ -471,7 +458,7 @@ StabilityRow run_one(const StabilityRun& run, const Thresholds& t) {
     // A state that has blown up (finite but ~1e50) can make a query throw
     // before it turns NaN: what was observed up to then decides.
     const Outcome o = classify(ob, t);
-    if (o == Outcome::exploded || o == Outcome::nan) {
+    if (o == Outcome::exploded || o == Outcome::nonfinite) {
       row.outcome = outcome_name(o);
       row.note = std::string("the run ended with an error after it blew up: ") + e.what();
     } else {
@@ -481,8 +468,7 @@ StabilityRow run_one(const StabilityRun& run, const Thresholds& t) {
   }
   row.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   row.max_strain = ob.max_strain;
-  const double budget = ob.kinetic0 + std::max(0.0, ob.potential0 - ob.potential_min) + t.energy_floor;
-  row.energy_ratio = ob.kinetic_max / budget;
+  row.energy_ratio = ob.kinetic_max / xpbd::energy_budget(ob, t);
   row.max_escape = ob.max_escape;
   row.tunnelled = ob.tunnelled;
   return row;

@@ -15,15 +15,17 @@
 //                 corners) with the ball's mass r x 0.1 kg, r = 1 .. 1e5,
 //                 x budget.
 //
-// The classifier, the tunnelling tracker and the attachment gap are plain
-// code on plain data (tests/demos/test_stability.cpp checks them on
-// hand-made inputs and frame sequences).
+// The classifier is the library's (xpbd/health.hpp, tested in
+// tests/unit/test_health.cpp); the tunnelling tracker and the attachment gap
+// are plain code on plain data (tests/demos/test_stability.cpp checks them
+// on hand-made inputs and frame sequences).
 #include <span>
 #include <string>
 #include <vector>
 
 #include "demos/scene_runner.hpp"
 #include "demos/scene_spec.hpp"
+#include "xpbd/health.hpp"
 
 namespace xpbd_stability {
 
@@ -33,39 +35,23 @@ using xpbd::Vec3;
 // ---------------------------------------------------------------------------
 // Classification.
 
-enum class Outcome { stable, over_stretched, exploded, nan, tunnelled };
-const char* outcome_name(Outcome o);  // "stable", "over_stretched", "exploded", "nan", "tunnelled"
+// The classifier is the library's own (xpbd/health.hpp), as used by
+// xpbd-demo's status and the bridge's step statistics; the map only sets
+// its thresholds.
+using Outcome = xpbd::Health;
+using Thresholds = xpbd::HealthThresholds;
+using Observation = xpbd::HealthObservation;
+using xpbd::classify;
 
-// The stated thresholds (docs/stability.md lists them).
-struct Thresholds {
-  double max_strain = 0.1;     // 1: over-stretched above 10 % edge strain (|len/rest - 1|)
-  double energy_factor = 10;   // exploded: max KE > factor x (KE_0 + potential energy released)
-  double energy_floor = 1e-3;  // J: added to the energy budget (a run starting at rest)
-  // m: exploded if a particle gets farther than bound + Observation::reach
-  // outside its initial bounding box.
-  double bound = 10;
-};
+// The map's thresholds (docs/stability.md): over-stretched above 10 % edge
+// strain; exploded above 10 x the energy budget (floor 1e-3 J) or farther
+// than 10 m + reach outside the initial bounding box.
+Thresholds map_thresholds();
 
-// What a run produced (fold frames in with observe_frame, then classify).
-struct Observation {
-  bool finite = true;
-  double max_strain = 0;          // 1, over all frames
-  double kinetic0 = 0;            // J, initial kinetic energy
-  double potential0 = 0;          // J, initial potential energy
-  double potential_min = 0;       // J, smallest potential energy seen
-  double kinetic_max = 0;         // J, largest kinetic energy seen
-  double max_escape = 0;          // m, largest distance of a particle outside the initial bounding box
-  // m, how far a particle can get without energy from the solver: the
-  // ballistic reach v0_max T + |g| T^2 / 2 over the run's duration T.
-  double reach = 0;
-  // Particles that went through the plate at some frame, + 1 if the ball
-  // passed through the cloth (TunnelTracker::count).
-  int tunnelled = 0;
-};
-
-// Order of precedence: NaN, exploded (energy), tunnelled, exploded
-// (distance bound), over-stretched, stable.
-Outcome classify(const Observation& o, const Thresholds& t = {});
+// The map's labels, kept from before the classifier moved to the library
+// (stability.csv and the charts use them): "stable" for ok, "nan" for
+// nonfinite; "over_stretched", "exploded", "tunnelled".
+const char* outcome_name(Outcome o);
 
 // Distance (m) of p outside the axis-aligned box [lo, hi] (0 inside).
 double outside_distance(const Vec3& p, const Vec3& lo, const Vec3& hi);
@@ -179,7 +165,7 @@ struct StabilityRow {
 };
 
 // Runs one and classifies it.
-StabilityRow run_one(const StabilityRun& run, const Thresholds& t = {});
+StabilityRow run_one(const StabilityRun& run, const Thresholds& t = map_thresholds());
 
 // The CSV: text fields quoted where needed (xpbd_compare::quote), so a note
 // may hold commas and quotes. read_stability_csv throws std::runtime_error

@@ -1,6 +1,6 @@
 // The xpbd-demo program as a user runs it: --list, --dump, exit status 2 and
-// the JSON path for every malformed scene file, and an interrupted run that
-// leaves no truncated output. Runs the built binary (XPBD_DEMO_EXE).
+// the JSON path for every malformed scene file, exit status 3 for a run that
+// came apart, and an interrupted run that leaves no truncated output. Runs the built binary (XPBD_DEMO_EXE).
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/resource.h>
@@ -197,6 +197,27 @@ TEST(Cli, MemoryStaysFlatOverAHundredThousandFrames) {
   ASSERT_EQ(j.at("per_frame").size(), 100001u);
   EXPECT_EQ(j["per_frame"][100000]["frame"], 100000);
   EXPECT_EQ(j["frames_completed"], 100000);
+}
+
+// The issue's own case: the default scene at dt = 0.5 s per frame comes
+// apart (edges many times their rest length) without a NaN. Before, it
+// printed "finite: yes" and exited 0. Now the table, metrics.json and the
+// exit status (3) say over_stretched or exploded, and stderr names the run.
+TEST(Cli, RunThatComesApartIsFlaggedInTheTableJsonAndExitStatus) {
+  const fs::path dir = scratch("diverged");
+  const Result r = run({"cloth_on_sphere", "--dt", "0.5", "--frames", "20", "--no-preview", "--out", dir.string()});
+  EXPECT_EQ(r.status, 3) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(slurp(dir / "metrics.json"));
+  const std::string status = j.at("status");
+  EXPECT_TRUE(status == "over_stretched" || status == "exploded") << status;
+  EXPECT_GT(j.at("max_strain").get<double>(), j.at("status_thresholds").at("max_strain").get<double>());
+  EXPECT_NE(r.out.find(status), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("cloth_on_sphere (xpbd 10 x 1): " + status), std::string::npos) << r.err;
+  // The same run with the bound raised past its strain (a scene field) is ok.
+  const Result ok = run({"cloth_on_sphere", "--dt", "0.5", "--frames", "20", "--no-preview", "--out", dir.string(),
+                         "--set", "solver.max_strain=1e6"});
+  EXPECT_EQ(ok.status, 0) << ok.err;
+  EXPECT_EQ(nlohmann::json::parse(slurp(dir / "metrics.json")).at("status"), "ok");
 }
 
 // An --out that cannot take files (below a regular file) is exit 1 naming
