@@ -48,6 +48,7 @@ void check_settings(const SystemSettings& s) {
     bad("sleep_time", "must be finite and > 0, got " + xpbd::format_value(double(s.sleep_time)));
   if (s.workers != nullptr && !s.coloured)
     bad("workers", "the threads split the coloured sweep; set coloured = true");
+  xpbd::validate(s.health, "SystemSettings.health.");
 }
 
 // Bullet has no getter for the pre-tick callback; it is a protected member
@@ -322,6 +323,8 @@ void XpbdWorld::drop_departed_bodies() {
 
 const std::string& XpbdWorld::error(SystemId id) const { return system(id).error; }
 
+const SystemHealth& XpbdWorld::health(SystemId id) const { return system(id).health; }
+
 const std::vector<BodyContactReport>& XpbdWorld::contact_report(SystemId id) const { return system(id).report; }
 
 void XpbdWorld::set_step_callback(SystemId id, StepCallback callback) { system(id).callback = std::move(callback); }
@@ -396,6 +399,10 @@ void XpbdWorld::run_systems(btScalar dt) {
       s->error = std::string("step at t = ") + xpbd::format_value(double(s->state.time)) + " s: " + e.what();
       s->report.clear();
       ++stats_.failed;
+      if (s->settings.check_health && !all_finite(s->state)) {
+        s->health.status = xpbd::Health::nonfinite;
+        ++stats_.nonfinite;
+      }
     }
   }
 }
@@ -508,6 +515,8 @@ void XpbdWorld::updateAction(btCollisionWorld* cw, btScalar dt) {
   release_spacers();
   for (auto& s : systems_)
     if (s->stepped && s->error.empty() && s->settings.contacts.enabled && s->settings.contacts.settle) settle(*s);
+  for (auto& s : systems_)
+    if (s->stepped && s->error.empty() && s->settings.check_health) health_after_step(*s);
   pre_solved_ = false;
   run_callbacks(dt);
 }

@@ -429,6 +429,7 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
     }
   });
 
+  if (set.check_health) health_before_solve(s, dt);
   xpbd::step(m, st, cfg);
 
   // The contact report: every body the particles pushed, with the impulse.

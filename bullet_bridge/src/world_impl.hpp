@@ -44,6 +44,13 @@ inline bool finite_body(const btCollisionObject* o) {
   return ok;
 }
 
+// True if every particle position and velocity of st is finite.
+inline bool all_finite(const xpbd::State& st) {
+  for (std::size_t i = 0; i < st.x.size(); ++i)
+    if (!st.x[i].allFinite() || !st.v[i].allFinite()) return false;
+  return true;
+}
+
 // True if o is in w's object array (bodies can be removed between steps).
 inline bool in_world(const btCollisionWorld& w, const btCollisionObject* o) {
   const int i = o->getWorldArrayIndex();
@@ -137,6 +144,14 @@ struct XpbdWorld::System {
   Real quiet = 0;                            // s, time every particle has been slower than sleep_speed
   Vec3 box_lo = Vec3::Zero(), box_hi = Vec3::Zero();  // m, the box that wakes it (set when it falls asleep)
   std::vector<Vec3> pins_asleep;             // State::pin_target when it fell asleep
+  // Divergence checks (world_health.cpp).
+  SystemHealth health;
+  xpbd::HealthObservation observed;  // kinetic0, potential0 from the first step; potential_min so far
+  bool observed_started = false;
+  double energy_end = 0;   // J, kinetic + potential energy after the last step
+  double edits_input = 0;  // J, energy the application added between steps, summed
+  double touch_input = 0;  // J, the most a body or pin could give in one step (2 M v^2)
+  std::vector<Vec3> health_pins;  // State::pin_target at the last step
 };
 
 // Who a body is, beyond its address (which a deleted body's successor may

@@ -76,6 +76,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "xpbd/health.hpp"
 #include "xpbd/materials.hpp"
 #include "xpbd/model.hpp"
 #include "xpbd/profile.hpp"
@@ -203,6 +204,14 @@ struct SystemSettings {
   xpbd::Real sleep_speed = 0;
   xpbd::Real sleep_time = 1;
   ContactSettings contacts;
+  // Divergence checks after every step (XpbdWorld::health, StepStats): the
+  // system's status by xpbd::classify with these thresholds (validated like
+  // the rest; max_strain defaults to 1, an edge twice its rest length). One
+  // pass over the particles at the start and at the end of the step, and one
+  // over the Distance elements at the end. false: no checks (health(id)
+  // stays as it was).
+  bool check_health = true;
+  xpbd::HealthThresholds health;
   // Opt-in timing: when set, every step of the system adds its stage times
   // to *times (which must outlive the system or be reset to nullptr).
   // nullptr = no timing.
@@ -240,6 +249,38 @@ struct StepStats {
   // Attachments ended in this step because their body had left the world
   // (XpbdWorld::attach).
   int dropped_attachments = 0;
+  // Systems whose health (XpbdWorld::health) after this step is
+  // over_stretched, exploded or nonfinite (a system whose step failed on a
+  // state that is not finite counts here too).
+  int over_stretched = 0;
+  int exploded = 0;
+  int nonfinite = 0;
+};
+
+// A system's health after its last step (XpbdWorld::health): the library's
+// classifier (xpbd/health.hpp) with SystemSettings::health, applied to the
+// state after every step:
+//   nonfinite       a particle position or velocity is NaN or infinite;
+//   exploded        the particles' kinetic energy now exceeds energy_factor
+//                   times the energy budget: the kinetic energy when the
+//                   system was added, plus the gravity potential energy it
+//                   has released since (its lowest point so far), plus the
+//                   energy from outside: the most a body or pin touching it
+//                   has been able to give (2 M v^2, M its movable mass, v the
+//                   fastest contact or attachment point of a non-static body
+//                   or the fastest moving pin target in any one step), plus
+//                   every energy increase the application made between steps
+//                   (moving particles, setting velocities);
+//   over_stretched  a Distance element's strain |len/rest - 1| now exceeds
+//                   max_strain;
+//   ok              none of these.
+// Not sticky: a system whose kinetic energy falls back below the bound is ok
+// again.
+struct SystemHealth {
+  xpbd::Health status = xpbd::Health::ok;
+  double max_strain = 0;      // 1, largest Distance strain after the step
+  double kinetic_energy = 0;  // J, the movable particles' after the step
+  double energy_budget = 0;   // J, xpbd::energy_budget of the system so far
 };
 
 // Typed ids: a system's id and an attachment's id cannot be mixed up (nor
@@ -318,6 +359,9 @@ class XpbdWorld : public btActionInterface {
   // frozen, and nothing was thrown out of stepSimulation. Throws
   // std::out_of_range for an unknown id.
   const std::string& error(SystemId id) const;
+  // The system's health after its last step (SystemHealth; all zero and ok
+  // before the first). Throws std::out_of_range for an unknown id.
+  const SystemHealth& health(SystemId id) const;
 
   xpbd::State& state(SystemId id);
   const xpbd::State& state(SystemId id) const;
@@ -446,6 +490,12 @@ class XpbdWorld : public btActionInterface {
   void add_spacer(const btCollisionObject* a, const btCollisionObject* b, const btVector3& pa,
                   const btVector3& pb, const btVector3& n, btScalar distance, btScalar friction);
   void release_spacers();
+  // Divergence checks (SystemSettings::check_health; world_health.cpp):
+  // before the solve, the energy the step starts with and what the
+  // application and the bodies and pins touching s can put in; after the
+  // step, s's SystemHealth and the StepStats counts.
+  void health_before_solve(System& s, btScalar dt);
+  void health_after_step(System& s);
   // Whether particle i of s is attached to obj.
   bool attached(const System& s, const btCollisionObject* obj, xpbd::Index i) const;
 

@@ -2,7 +2,7 @@
 // Is a run (or a system stepped over time) still physics? One classifier
 // for the demo runner (metrics.json's "status"), the bridge's step
 // statistics (xpbd_bullet::SystemHealth) and the stability map
-// (docs/reliability.md, "Divergence").
+// (docs/reliability.md, "Divergence is flagged").
 //
 //   nonfinite       a NaN or Inf in the state, or in a measured quantity;
 //   exploded        the kinetic energy exceeds energy_factor times what the
@@ -21,6 +21,7 @@
 // damping and drag only lower it. A run whose kinetic energy exceeds the
 // budget many times over has gained energy from the solver.
 #include <limits>
+#include <ostream>
 
 #include "xpbd/types.hpp"
 
@@ -29,6 +30,7 @@ namespace xpbd {
 enum class Health { ok, over_stretched, exploded, nonfinite, tunnelled };
 // "ok", "over_stretched", "exploded", "nonfinite", "tunnelled"
 const char* health_name(Health h);
+inline std::ostream& operator<<(std::ostream& o, Health h) { return o << health_name(h); }
 
 struct HealthThresholds {
   // over_stretched above this largest Distance strain (1 = an edge twice its
