@@ -5,6 +5,7 @@
 #include "xpbd/constraints.hpp"
 #include "xpbd/diagnostics.hpp"
 #include "xpbd/error.hpp"
+#include "xpbd/forces.hpp"
 #include "xpbd/materials.hpp"
 #include "xpbd/model.hpp"
 #include "xpbd/raycast.hpp"
