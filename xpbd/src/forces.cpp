@@ -30,9 +30,14 @@ Real inv_h2_of(const Model& m, const State& s, const char* fn) {
   });
   if (s.pin_target_now.size() != m.get<Pin>().size())
     throw ConfigError(f + "state.pin_target_now does not match the model's pins");
-  if (s.attachment_lambda.size() != s.attachments.size())
-    throw ConfigError(f + "state.attachment_lambda has " + std::to_string(s.attachment_lambda.size()) +
-                      " entries, state.attachments " + std::to_string(s.attachments.size()));
+  if (s.attachment_impulse.size() != s.attachments.size())
+    throw ConfigError(f + "state.attachment_impulse has " + std::to_string(s.attachment_impulse.size()) +
+                      " entries, state.attachments " + std::to_string(s.attachments.size()) +
+                      " (attachments changed since the last step?)");
+  for (std::size_t k = 0; k < s.attachments.size(); ++k)
+    if (s.attachments[k].particle < 0 || static_cast<std::size_t>(s.attachments[k].particle) >= s.x.size())
+      throw ConfigError(f + "state.attachments[" + std::to_string(k) + "].particle " +
+                        std::to_string(s.attachments[k].particle) + " is not a particle");
   return Real(1) / (s.last_substep * s.last_substep);
 }
 
@@ -49,22 +54,6 @@ EvalContext eval_context(const Model& m, const State& s) {
 Vec3 applied_force(const Model& m, const State& s, Index i, const Vec3& gravity) {
   const Vec3 f = s.f_ext.empty() ? Vec3::Zero() : s.f_ext[static_cast<std::size_t>(i)];
   return gravity / m.inv_mass[static_cast<std::size_t>(i)] + f;
-}
-
-// Force attachment k exerts on its particle from the final state, or false
-// if its direction is undefined (the particle exactly on the point).
-bool attachment_on_particle(const State& s, std::size_t k, Real inv_h2, Vec3& f) {
-  const BodyAttachment& a = s.attachments[k];
-  Vec3 pb = a.r;
-  if (a.body >= 0) {
-    const RigidBody& b = s.bodies.at(static_cast<std::size_t>(a.body));
-    pb = b.x + b.q * a.r;
-  }
-  const Vec3 d = s.x[static_cast<std::size_t>(a.particle)] - pb;
-  const Real len = d.norm();
-  if (!(len > Real(0))) return false;
-  f = (s.attachment_lambda[k] * inv_h2 / len) * d;
-  return true;
 }
 
 }  // namespace
@@ -92,33 +81,16 @@ std::vector<Vec3> constraint_forces_on_particles(const Model& m, const State& s)
   return f;
 }
 
-std::vector<AttachmentForce> attachment_forces(const Model& m, const State& s, const Vec3& gravity) {
+std::vector<AttachmentForce> attachment_forces(const Model& m, const State& s) {
   const Real inv_h2 = inv_h2_of(m, s, "attachment_forces");
   std::vector<AttachmentForce> out;
   out.reserve(s.attachments.size());
-  std::vector<Vec3> net;  // built on the first stiff attachment of a movable particle
   for (std::size_t k = 0; k < s.attachments.size(); ++k) {
-    const BodyAttachment& a = s.attachments[k];
-    if (a.particle < 0 || static_cast<std::size_t>(a.particle) >= m.inv_mass.size())
-      throw ConfigError("attachment_forces: attachments[" + std::to_string(k) + "].particle " +
-                        std::to_string(a.particle) + " is not a particle");
     AttachmentForce r;
     r.attachment = static_cast<Index>(k);
-    r.particle = a.particle;
-    r.body = a.body;
-    const bool movable = m.inv_mass[static_cast<std::size_t>(a.particle)] > Real(0);
-    Vec3 on_particle;
-    if (a.compliance == Real(0) && movable) {
-      // Stiff: the particle ends on the point. Balance (velocity unchanged
-      // over the last substep): 0 = m g + f_ext + F_elements + F_attachment.
-      if (net.empty()) net = constraint_forces_on_particles(m, s);
-      on_particle = -applied_force(m, s, a.particle, gravity) - net[static_cast<std::size_t>(a.particle)];
-      r.from_balance = true;
-    } else if (!attachment_on_particle(s, k, inv_h2, on_particle)) {
-      on_particle = Vec3::Zero();
-      r.undefined = true;
-    }
-    r.on_body = -on_particle;
+    r.particle = s.attachments[k].particle;
+    r.body = s.attachments[k].body;
+    r.on_body = -inv_h2 * s.attachment_impulse[k];  // the particle got +impulse
     out.push_back(r);
   }
   return out;
@@ -128,15 +100,10 @@ std::vector<PinReaction> pin_reactions(const Model& m, const State& s, const Vec
   const Real inv_h2 = inv_h2_of(m, s, "pin_reactions");
   const std::size_t n = m.inv_mass.size();
   const std::vector<Vec3> net = constraint_forces_on_particles(m, s);
-  // Attachments add to the forces on their particles (kinematic particles only
-  // need them; a stiff attachment of a kinematic particle with no direction
-  // adds nothing).
+  // Attachments add to the forces on their particles.
   std::vector<Vec3> att(n, Vec3::Zero());
-  for (std::size_t k = 0; k < s.attachments.size(); ++k) {
-    Vec3 f;
-    const auto p = static_cast<std::size_t>(s.attachments[k].particle);
-    if (p < n && attachment_on_particle(s, k, inv_h2, f)) att[p] += f;
-  }
+  for (std::size_t k = 0; k < s.attachments.size(); ++k)
+    att[static_cast<std::size_t>(s.attachments[k].particle)] += inv_h2 * s.attachment_impulse[k];
   const auto& pins = m.get<Pin>();
   std::vector<Index> pin_of(n, -1);
   for (std::size_t k = 0; k < pins.size(); ++k) pin_of[static_cast<std::size_t>(pins[k].p[0])] = static_cast<Index>(k);

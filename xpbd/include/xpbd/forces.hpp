@@ -37,14 +37,15 @@ struct PinReaction {
   // kinematic particle: (n - 1) m |g| upward.
   //  - kinematic particle (inverse mass 0): minus the sum of the forces the
   //    elements touching it (all types but Pin and GlobalVolume, and its
-  //    attachments) exert on it: what it passes on to the rest;
+  //    attachments; not contacts) exert on it: what it passes on to the rest;
   //  - Pin with compliance > 0 on a movable particle: the Pin's own force
   //    (lambda/h^2) grad C, grad C = (x - target)/|x - target|;
   //  - Pin with compliance 0 on a movable particle: the particle ends each
   //    substep on its target, where grad C is undefined, so the force comes
   //    from the particle's balance, assuming its velocity did not change over
   //    the last substep (at rest, or moving steadily with its target):
-  //    F = -m g - f_ext - (forces of the other elements on it).
+  //    F = -m g - f_ext - (forces of the other elements and attachments on
+  //    it; GlobalVolume and body contacts are not counted).
   Vec3 force = Vec3::Zero();
   bool from_balance = false;  // the last case
 };
@@ -55,15 +56,12 @@ struct AttachmentForce {
   Index particle = 0;
   Index body = -1;       // index into State::bodies, -1 = a fixed world point
   // N, world: the force the attachment exerts on the body (at its point);
-  // it exerts -on_body on the particle. With compliance > 0 (or a particle
-  // away from the point): (lambda/h^2) n on the particle, n = (x_p - p_b)/|x_p - p_b|.
-  // With compliance 0 on a movable particle, from the particle's balance as
-  // for a stiff Pin (the attachment must then be the particle's only pin or
-  // attachment). A stiff attachment of a kinematic particle whose point
-  // ends exactly on it has no direction: zero, with undefined = true.
+  // it exerts -on_body on the particle. From State::attachment_impulse, the
+  // sum of the last substep's dlambda * n (n = (x_p - p_b)/|x_p - p_b| at
+  // each projection): on the particle impulse/h^2, whose magnitude is
+  // |lambda|/h^2 when n did not turn. Any compliance, movable or kinematic
+  // particle.
   Vec3 on_body = Vec3::Zero();
-  bool from_balance = false;
-  bool undefined = false;
 };
 
 // The largest multiplier of one constraint type, as a force.
@@ -82,7 +80,7 @@ struct MaxConstraintForce {
 std::vector<PinReaction> pin_reactions(const Model& model, const State& state, const Vec3& gravity);
 
 // Per State::attachments entry, in order.
-std::vector<AttachmentForce> attachment_forces(const Model& model, const State& state, const Vec3& gravity);
+std::vector<AttachmentForce> attachment_forces(const Model& model, const State& state);
 
 // One entry per constraint type, in ConstraintTypes order.
 std::vector<MaxConstraintForce> max_constraint_forces(const Model& model, const State& state);
