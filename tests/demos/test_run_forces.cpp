@@ -154,6 +154,25 @@ TEST(RunForces, HangingBoxAttachmentsCarryItsWeight) {
   }
 }
 
+// Beyond kForcesListedMax pins: the count and total of all, the largest few.
+TEST(RunForces, LongListsAreBounded) {
+  RunForces f;
+  const int n = int(kForcesListedMax) + 500;
+  for (int i = 0; i < n; ++i) f.pins.push_back(xpbd::PinReaction{i, -1, Vec3(0, Real(i % 7), 0), false});
+  const nlohmann::json j = forces_json(f).at("pins");
+  EXPECT_EQ(j.at("count").get<int>(), n);
+  EXPECT_EQ(j.at("listed").get<std::string>(), "largest");
+  ASSERT_EQ(j.at("items").size(), kForcesListed);
+  for (const auto& e : j.at("items")) EXPECT_EQ(e.at("magnitude").get<double>(), 6.0) << e.dump();
+  double total = 0;
+  for (int i = 0; i < n; ++i) total += double(i % 7);
+  EXPECT_EQ(vec(j.at("total")).y(), Real(total));
+  f.pins.resize(kForcesListedMax);
+  const nlohmann::json all = forces_json(f).at("pins");
+  EXPECT_EQ(all.at("listed").get<std::string>(), "all");
+  EXPECT_EQ(all.at("items").size(), kForcesListedMax);
+}
+
 TEST(RunForces, NotForPbd) {
   xpbd_compare::ChainParams p;
   const SceneSpec spec = xpbd_compare::chain_scene(p, 2);
