@@ -109,10 +109,9 @@ TEST(RunForces, HangingBoxAttachmentsCarryItsWeight) {
   const Real m = Real(0.01), M = 2, g = 10;
   // Two compliant attachments are the case where lambda times the final
   // direction (x_p - p_b)/|x_p - p_b| was wrong: each one's last correction
-  // moves the other's point by about its stretch (measured, box at 1.1 m and
-  // 20 substeps: 0.29 N sideways
-  // of 20 N at 1e-6 m/N); State::attachment_impulse keeps each projection's
-  // direction.
+  // moves the other's point by about its stretch (measured with the box at
+  // 1.1 m and 20 substeps: 0.29 N sideways of 20 N at 1e-6 m/N);
+  // State::attachment_impulse keeps each projection's direction.
   struct Case {
     Real alpha;
     int ropes;
