@@ -2,6 +2,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "demos/run_forces.hpp"
+
 namespace xpbd_demos {
 
 using xpbd::Real;
@@ -81,6 +83,7 @@ nlohmann::json to_json(const RunResult& r) {
     for (const auto& [name, ms] : r.stage_ms_per_frame) stages[name] = ms;
     j["stage_ms_per_frame"] = std::move(stages);
   }
+  if (r.forces) j["forces"] = forces_json(*r.forces);
   return j;
 }
 

@@ -353,6 +353,8 @@ class SoftSim {
   virtual long long projections_per_frame() const = 0;
   // The stage breakdown so far (RunOptions::stage_times), or nullptr.
   virtual const xpbd_bullet::SystemTimes* times() const { return nullptr; }
+  // The forces of the current state (XPBD only), or nothing.
+  virtual std::optional<RunForces> forces(const SceneSpec&, std::vector<std::string>&) const { return {}; }
 };
 
 class XpbdSim : public SoftSim {
@@ -405,6 +407,10 @@ class XpbdSim : public SoftSim {
   std::span<const Vec3> v() override { return world_.state(id_).v; }
   long long projections_per_frame() const override { return projections_; }
   const xpbd_bullet::SystemTimes* times() const override { return timing_ ? &times_ : nullptr; }
+  std::optional<RunForces> forces(const SceneSpec& spec, std::vector<std::string>& notes) const override {
+    if (world_.settings(id_).method != xpbd::Method::xpbd) return {};
+    return read_forces(spec, world_.model(id_), world_.state(id_), spec.solver.gravity, notes);
+  }
 
  private:
   RigidWorld& rw_;
@@ -716,6 +722,7 @@ RunResult run_scene(const SceneSpec& spec, const ExpandedSoft& soft, const RunOp
     report(f, ok, ms);
   }
   summary.apply(r);
+  if (r.finite && r.frames_completed > 0) r.forces = sim->forces(spec, r.notes);
   rw.poses(poses);
   r.state_hash = state_hash(sim->x(), sim->v(), poses);
   if (const xpbd_bullet::SystemTimes* t = sim->times(); t && r.frames_completed > 0)

@@ -28,6 +28,7 @@
 #include <nlohmann/json.hpp>
 
 #include "demos/rigid_world.hpp"
+#include "demos/run_forces.hpp"
 #include "demos/scene_spec.hpp"
 #include "xpbd/health.hpp"
 
@@ -146,6 +147,9 @@ struct RunResult {
   // the frames' stepping time (Bullet's rigid-body step and glue). Empty
   // otherwise.
   std::vector<std::pair<std::string, double>> stage_ms_per_frame;
+  // Forces of the final frame (demos/run_forces.hpp): --solver xpbd runs that
+  // completed at least one frame and stayed finite; empty otherwise.
+  std::optional<RunForces> forces;
 };
 
 // Runs the scene. Relative file paths (OBJ generators, mesh shapes) are

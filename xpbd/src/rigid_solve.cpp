@@ -72,6 +72,7 @@ void begin_step(const Model& m, State& s) {
   build_contact_chains(m, s);
   s.triangle_contact_lambda.resize(s.triangle_contacts.size());
   s.attachment_lambda.resize(s.attachments.size());
+  s.attachment_impulse.resize(s.attachments.size(), Vec3::Zero());
   for (std::size_t k = 0; k < s.world_contacts.size(); ++k) {
     const BodyWorldContact& c = s.world_contacts[k];
     if (c.body < 0 || c.body >= nb)
@@ -122,6 +123,7 @@ void collect_contact_impulses(State& s, Real h) {
 void begin_substep(const Model& m, State& s) {
   (void)m;
   std::fill(s.attachment_lambda.begin(), s.attachment_lambda.end(), Real(0));
+  std::fill(s.attachment_impulse.begin(), s.attachment_impulse.end(), Vec3::Zero());
   std::fill(s.triangle_contact_lambda.begin(), s.triangle_contact_lambda.end(), Real(0));
   std::fill(s.world_contact_lambda.begin(), s.world_contact_lambda.end(), ContactLambda{});
   for (std::size_t k = 0; k < s.contacts.size(); ++k) {
@@ -166,6 +168,7 @@ void solve_attachments(const Model& m, State& s, Real h) {
     if (!(den > Real(0))) continue;
     const Real dl = (-len - at * s.attachment_lambda[k]) / den;
     s.attachment_lambda[k] += dl;
+    s.attachment_impulse[k] += dl * n;
     s.x[a.particle] += (wp * dl) * n;
     apply_position_impulse(b, rw, -dl * n);
   }

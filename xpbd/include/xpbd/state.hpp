@@ -58,6 +58,12 @@ struct State {
   std::vector<Real> triangle_contact_lambda;  // kg*m, parallel (sized by step())
   std::vector<BodyAttachment> attachments;
   std::vector<Real> attachment_lambda;      // kg*m, parallel to attachments (sized by step())
+  // kg*m, world, parallel to attachments (sized by step()): the position
+  // impulse each attachment gave its particle over the current substep's
+  // projections, sum of dlambda * n (the body got minus it). Divided by h^2
+  // it is the force on the particle (forces.hpp); unlike lambda it keeps the
+  // direction of every projection (n turns between them).
+  std::vector<Vec3> attachment_impulse;
   std::vector<BodyWorldContact> world_contacts;  // bodies against the static world
   std::vector<ContactLambda> world_contact_lambda;  // parallel (sized by step())
   std::vector<Real> world_contact_slack;  // m, <= 0: the overlap each starts the step with (step())

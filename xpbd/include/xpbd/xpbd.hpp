@@ -4,6 +4,7 @@
 #include "xpbd/compile.hpp"
 #include "xpbd/constraints.hpp"
 #include "xpbd/diagnostics.hpp"
+#include "xpbd/forces.hpp"
 #include "xpbd/error.hpp"
 #include "xpbd/health.hpp"
 #include "xpbd/materials.hpp"
