@@ -397,6 +397,66 @@ SceneSpec bullet_softdemo_capsule() {
   return s;
 }
 
+// ---------------------------------------------------------------------------
+// Stiff scenes with an accuracy target (solver.tolerance, 5 % strain): what
+// breaks a fixed budget (docs/tolerance.md). `substeps` is where the count
+// starts; scripts/tolerance.sh compares each with fixed budgets.
+
+SceneSpec stiff_light_cloth() {
+  // A light, stiff cloth: 24 x 24, 0.6 m, 20 g, every edge 1e-9 m/N, flat,
+  // pinned at the two corners of one edge.
+  SceneSpec s;
+  s.name = "stiff_light_cloth";
+  s.description = "light stiff 24x24 cloth (20 g, 1e-9 m/N) pinned at two corners, tolerance 5 % strain";
+  xpbd::ClothGridDesc d = flat_cloth(24, Real(0.6), Vec3(0, 0, Real(0.3)), Real(0.02), Real(1e-9));
+  d.pinned = {{0, 0}, {23, 0}};
+  s.soft.generators.push_back(d);
+  s.solver.tolerance = 0.05;
+  s.solver.frames = 180;
+  return s;
+}
+
+SceneSpec large_cloth() {
+  // A large cloth of 1 kg: 50 x 50, 2 m, every edge 1e-8 m/N, flat, pinned
+  // at the two corners of one edge.
+  SceneSpec s;
+  s.name = "large_cloth";
+  s.description = "50x50 cloth of 2 m and 1 kg (1e-8 m/N) pinned at two corners, tolerance 5 % strain";
+  xpbd::ClothGridDesc d = flat_cloth(50, 2, Vec3(0, 0, 1), 1, Real(1e-8));
+  d.pinned = {{0, 0}, {49, 0}};
+  s.soft.generators.push_back(d);
+  s.solver.tolerance = 0.05;
+  s.solver.frames = 180;
+  return s;
+}
+
+SceneSpec heavy_rope() {
+  // A long stiff rope with a heavy end: 201 particles of 1 g, 1 cm links
+  // (2 m), 1e-9 m/N, pinned at one end, carrying a 0.2 kg box attached to
+  // its last particle (200 times the rope's particle mass); released
+  // horizontal.
+  SceneSpec s;
+  s.name = "heavy_rope";
+  s.description = "2 m rope of 201 particles (1 g each) pinned at one end, a 0.2 kg box at the other, tolerance 5 % strain";
+  xpbd::RopeDesc r;
+  r.n = 201;
+  r.start = Vec3(0, Real(2.5), 0);
+  r.dir = Vec3::UnitX();
+  r.spacing = Real(0.01);
+  r.mass = Real(0.001);  // kg per particle
+  r.pin_first = true;
+  r.mat.compliance = Real(1e-9);
+  s.soft.generators.push_back(r);
+  const Vec3 end = r.start + Real(r.n - 1) * r.spacing * r.dir;
+  const Real a = Real(0.05), gap = Real(0.01);  // m: box half extent, rope end to face
+  s.bodies.push_back(box("box", Vec3::Constant(a), end + (a + gap) * r.dir, Real(0.2)));
+  s.attachments.push_back(AttachmentSpec{r.n - 1, 0, -(a + gap) * r.dir, 0});
+  s.solver.tolerance = 0.05;
+  s.solver.max_substeps = 400;
+  s.solver.frames = 180;
+  return s;
+}
+
 std::vector<SceneSpec> make_all() {
   std::vector<SceneSpec> v;
   v.push_back(cloth_on_sphere());
@@ -410,6 +470,9 @@ std::vector<SceneSpec> make_all() {
   v.push_back(two_cloths());
   v.push_back(bullet_softdemo_cloth());
   v.push_back(bullet_softdemo_capsule());
+  v.push_back(stiff_light_cloth());
+  v.push_back(large_cloth());
+  v.push_back(heavy_rope());
   return v;
 }
 

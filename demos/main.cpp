@@ -204,8 +204,11 @@ RunOutput run_one(const SceneSpec& spec, const ExpandedSoft& soft, const RunOpti
 
 void print_run(const RunOutput& o) {
   const RunResult& r = o.result;
+  // With a tolerance the budget is the mean substeps per frame, rounded (the
+  // line after the table gives it exactly).
+  const int substeps = r.mean_substeps > 0 ? int(std::lround(r.mean_substeps)) : r.options.substeps;
   std::printf("%-8s %3d x %-3d %9.3f %11lld %11.3e %11.3e %10.3e  %s\n", solver_name(r.options.solver),
-              r.options.substeps, r.options.iterations, r.wall_ms_median, r.projections_per_frame,
+              substeps, r.options.iterations, r.wall_ms_median, r.projections_per_frame,
               r.max_strain, r.mean_strain, r.max_penetration, r.status.c_str());
 }
 
@@ -296,6 +299,12 @@ int run(const Cli& cli) {
   std::printf("\n");
   print_header();
   for (const RunOutput& o : outs) print_run(o);
+  for (const RunOutput& o : outs)
+    if (const RunResult& r = o.result; r.options.tolerance > 0 && r.options.solver != Solver::bullet)
+      std::printf("%-8s tolerance %.3g strain: %.3g substeps per frame on average (started at %d), largest %d "
+                  "(at most %d), %d frame(s) above it\n",
+                  solver_name(r.options.solver), r.options.tolerance, r.mean_substeps, r.options.substeps,
+                  r.max_substeps_used, r.options.max_substeps, r.frames_tolerance_missed);
   for (const std::string& s : skipped) std::printf("skipped %s\n", s.c_str());
   for (const RunOutput& o : outs) print_stages(o.result);
   if (cli.hash) {

@@ -38,6 +38,7 @@ nlohmann::json frame_json(int frame, const FrameMetrics& f, std::optional<double
                       {"mean_strain", f.mean_strain},
                       {"max_penetration", f.max_penetration}};
   if (f.min_particle_distance) e["min_particle_distance"] = *f.min_particle_distance;
+  if (f.substeps) e["substeps"] = *f.substeps;
   if (wall_ms) e["wall_ms"] = *wall_ms;
   return e;
 }
@@ -84,6 +85,12 @@ nlohmann::json to_json(const RunResult& r) {
     j["stage_ms_per_frame"] = std::move(stages);
   }
   if (r.forces) j["forces"] = forces_json(*r.forces);
+  if (r.options.tolerance > 0)
+    j["tolerance"] = {{"strain", r.options.tolerance},
+                      {"max_substeps", r.options.max_substeps},
+                      {"mean_substeps", r.mean_substeps},
+                      {"max_substeps_used", r.max_substeps_used},
+                      {"frames_missed", r.frames_tolerance_missed}};
   return j;
 }
 

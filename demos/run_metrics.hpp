@@ -43,6 +43,12 @@ class Summary {
       health_.finite = false;
       return;
     }
+    if (f.substeps) {
+      substeps_sum_ += *f.substeps;
+      substeps_max_ = std::max(substeps_max_, *f.substeps);
+      ++substeps_count_;
+    }
+    if (!f.tolerance_met) ++missed_;
     health_.max_strain = std::max(health_.max_strain, f.max_strain);
     health_.kinetic_max = std::max(health_.kinetic_max, f.kinetic_energy);
     health_.potential_min = std::min(health_.potential_min, f.potential_energy);
@@ -68,6 +74,14 @@ class Summary {
     r.max_penetration = max_penetration_;
     if (counted_ > 0) r.mean_strain = mean_sum_ / counted_;
     r.min_particle_distance = min_distance_;
+    if (substeps_count_ > 0) {
+      r.mean_substeps = substeps_sum_ / double(substeps_count_);
+      r.max_substeps_used = substeps_max_;
+      // projections_per_frame was counted at the starting substeps.
+      r.projections_per_frame = static_cast<long long>(std::llround(
+          double(r.projections_per_frame) / double(r.options.substeps) * r.mean_substeps));
+    }
+    r.frames_tolerance_missed = missed_;
     xpbd::HealthObservation h = health_;
     h.finite = h.finite && r.finite;
     r.status = xpbd::health_name(xpbd::classify(h, r.options.health));
@@ -98,6 +112,8 @@ class Summary {
   std::uint64_t ms_count_ = 0;
   std::optional<double> min_distance_;
   xpbd::HealthObservation health_;
+  double substeps_sum_ = 0;
+  int substeps_max_ = 0, substeps_count_ = 0, missed_ = 0;
   std::array<std::uint64_t, kBins> bins_{};
 };
 

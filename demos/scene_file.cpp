@@ -144,7 +144,8 @@ using Keys = std::initializer_list<const char*>;
 // clang-format off
 constexpr Keys kTopKeys{"name", "description", "solver", "soft", "bodies", "attachments"};
 constexpr Keys kSolverKeys{"method", "dt", "substeps", "iterations", "frames", "drag", "alternate_sweeps",
-                           "coloured", "gravity", "bullet_kLST", "max_strain"};
+                           "coloured", "gravity", "bullet_kLST", "max_strain",
+                           "tolerance", "max_substeps"};
 constexpr Keys kSoftKeys{"particles", "generators", "contacts", "distances", "collisions", "pins", "planes",
                      "penetrations", "dihedral_bends", "isometric_bends", "tets", "tethers",
                      "global_volumes", "self_collision", "collision_triangles"};
@@ -416,6 +417,12 @@ SolverSpec read_solver(const Ctx& c, const json& v, const std::string& path) {
   o.real("max_strain", max_strain);
   positive(c, max_strain, o.at("max_strain"));
   s.max_strain = double(max_strain);
+  Real tolerance = Real(s.tolerance);
+  o.real("tolerance", tolerance);
+  non_negative(c, tolerance, o.at("tolerance"));
+  s.tolerance = double(tolerance);
+  o.integer("max_substeps", s.max_substeps);
+  at_least(c, s.max_substeps, 1, o.at("max_substeps"));
   return s;
 }
 
@@ -1469,7 +1476,9 @@ json to_json(const SceneSpec& s) {
                  {"coloured", v.coloured},
                  {"gravity", out_vec(v.gravity)},
                  {"bullet_kLST", out_real(v.bullet_kLST)},
-                 {"max_strain", v.max_strain}};
+                 {"max_strain", v.max_strain},
+                 {"tolerance", v.tolerance},
+                 {"max_substeps", v.max_substeps}};
   j["soft"] = out_soft(s.soft);
   json bodies = json::array();
   for (const RigidSpec& b : s.bodies) {

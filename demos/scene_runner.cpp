@@ -89,6 +89,9 @@ void validate_options(const RunOptions& o, const SceneSpec& spec) {
   if (!(s.bullet_kLST > Real(0) && s.bullet_kLST <= Real(1)))
     fail("bullet_kLST", "must be in (0, 1], got " + num(s.bullet_kLST));
   xpbd::validate(o.health, "solver.");
+  if (!(o.tolerance >= 0) || !std::isfinite(o.tolerance))
+    fail("tolerance", "must be finite and >= 0 (0 = off), got " + num(o.tolerance));
+  if (o.max_substeps < 1) fail("max_substeps", "must be >= 1, got " + std::to_string(o.max_substeps));
 }
 
 void validate_contacts(const SoftContactSpec& c) {
@@ -355,6 +358,9 @@ class SoftSim {
   virtual const xpbd_bullet::SystemTimes* times() const { return nullptr; }
   // The forces of the current state (XPBD only), or nothing.
   virtual std::optional<RunForces> forces(const SceneSpec&, std::vector<std::string>&) const { return {}; }
+  // With a tolerance: the substeps the last frame took, and whether it met it.
+  virtual std::optional<int> frame_substeps() const { return std::nullopt; }
+  virtual bool frame_tolerance_met() const { return true; }
 };
 
 class XpbdSim : public SoftSim {
@@ -382,6 +388,8 @@ class XpbdSim : public SoftSim {
     s.contacts.restitution = c.restitution;
     s.contacts.compliance = c.compliance;
     s.contacts.feature_spacing = c.feature_spacing;
+    s.tolerance.strain = opt.tolerance;
+    s.tolerance.max_substeps = opt.max_substeps;
     timing_ = opt.stage_times;
     if (timing_) s.times = &times_;
     projections_ = static_cast<long long>(opt.substeps) * opt.iterations * constraint_elements(*model);
@@ -396,7 +404,13 @@ class XpbdSim : public SoftSim {
   }
 
   bool step_frame() override {
-    for (int k = 0; k < rigid_steps_; ++k) rw_.step(dt_);
+    frame_substeps_ = 0;
+    frame_met_ = true;
+    for (int k = 0; k < rigid_steps_; ++k) {
+      rw_.step(dt_);
+      frame_substeps_ += world_.health(id_).substeps;
+      frame_met_ = frame_met_ && world_.health(id_).tolerance_met;
+    }
     // XpbdWorld throws nothing out of stepSimulation: a failed step is
     // recorded. Report it as the step's exception (run_scene classifies it).
     if (const std::string& e = world_.error(id_); !e.empty()) throw std::invalid_argument(e);
@@ -407,6 +421,11 @@ class XpbdSim : public SoftSim {
   std::span<const Vec3> v() override { return world_.state(id_).v; }
   long long projections_per_frame() const override { return projections_; }
   const xpbd_bullet::SystemTimes* times() const override { return timing_ ? &times_ : nullptr; }
+  std::optional<int> frame_substeps() const override {
+    if (!(world_.settings(id_).tolerance.strain > 0)) return std::nullopt;
+    return frame_substeps_;
+  }
+  bool frame_tolerance_met() const override { return frame_met_; }
   std::optional<RunForces> forces(const SceneSpec& spec, std::vector<std::string>& notes) const override {
     if (world_.settings(id_).method != xpbd::Method::xpbd) return {};
     return read_forces(spec, world_.model(id_), world_.state(id_), spec.solver.gravity, notes);
@@ -416,6 +435,8 @@ class XpbdSim : public SoftSim {
   RigidWorld& rw_;
   Real dt_;             // s, one Bullet step: the frame's dt / rigid_steps_
   int rigid_steps_ = 1;  // Bullet steps per frame
+  int frame_substeps_ = 0;  // substeps of the last frame (all its Bullet steps)
+  bool frame_met_ = true;   // every step of the last frame met the tolerance
   bool timing_ = false;
   xpbd_bullet::SystemTimes times_;  // before world_: outlives the system
   std::unique_ptr<xpbd::Workers> workers_;  // before world_: outlives the system
@@ -489,6 +510,8 @@ class BulletSim : public SoftSim {
       notes.push_back("btSoftBody: alternate_sweeps is not used (btSoftBody sweeps its links in one order)");
     if (spec.solver.coloured)
       notes.push_back("btSoftBody: coloured is not used (btSoftBody sweeps its links in one order)");
+    if (opt.tolerance > 0)
+      notes.push_back("btSoftBody: tolerance is not used (it runs the fixed substeps x iterations)");
     if (!spec.bodies.empty()) {
       if (!model.collision_triangles.empty())
         notes.push_back("btSoftBody: the " + std::to_string(model.collision_triangles.size()) +
@@ -587,6 +610,8 @@ RunOptions run_options(const SceneSpec& spec) {
   o.iterations = spec.solver.iterations;
   o.frames = spec.solver.frames;
   o.health.max_strain = spec.solver.max_strain;
+  o.tolerance = spec.solver.tolerance;
+  o.max_substeps = spec.solver.max_substeps;
   return o;
 }
 
@@ -673,7 +698,11 @@ RunResult run_scene(const SceneSpec& spec, const ExpandedSoft& soft, const RunOp
   summary.set_energy_input(kinematic_energy_input(spec, *model, rw));
   auto report = [&](int frame, bool finite, double wall_ms) {
     const double t = double(frame) * double(opt.dt);
-    const FrameMetrics fm = meas.measure(t, sim->x(), sim->v(), finite);
+    FrameMetrics fm = meas.measure(t, sim->x(), sim->v(), finite);
+    if (frame >= 1) {
+      fm.substeps = sim->frame_substeps();
+      fm.tolerance_met = sim->frame_tolerance_met();
+    }
     if (frame >= 1) summary.add(fm);
     else summary.start(fm);
     if (opt.keep_series) r.series.push_back(fm);

@@ -71,6 +71,11 @@ struct RunOptions {
   // from the scene (solver.max_strain); the rest are the library's
   // defaults (energy factor 10, floor 1e-3 J, no distance bound).
   xpbd::HealthThresholds health;
+  // xpbd/pbd only: the accuracy target (the scene's solver.tolerance and
+  // max_substeps; xpbd_bullet::Tolerance). tolerance > 0: `substeps` is
+  // where the count starts, and the run picks it frame by frame.
+  double tolerance = 0;
+  int max_substeps = 200;
 };
 
 // spec.solver's method, dt, substeps, iterations and frames.
@@ -89,6 +94,10 @@ struct FrameMetrics {
   double mean_strain = 0;       // 1, mean of the same
   double max_penetration = 0;   // m, >= 0 (see docs/metrics.md)
   std::optional<double> min_particle_distance;  // m, when particle collision is on
+  // With a tolerance (RunOptions::tolerance): the substeps the frame took
+  // (summed over its Bullet steps), and whether every step met it.
+  std::optional<int> substeps;
+  bool tolerance_met = true;
 };
 
 // What the frame callback sees.
@@ -136,6 +145,12 @@ struct RunResult {
   // Largest kinetic energy over the energy budget (xpbd::energy_budget):
   // above options.health.energy_factor the run is "exploded".
   double energy_ratio = 0;
+  // With a tolerance (xpbd/pbd): substeps per frame, mean and largest over
+  // frames 1 .. frames_completed, and the frames that missed it (some step
+  // at max_substeps still above it). projections_per_frame is then the mean.
+  double mean_substeps = 0;
+  int max_substeps_used = 0;
+  int frames_tolerance_missed = 0;
   std::vector<FrameMetrics> series;  // frames_completed + 1 entries, entry 0 = initial state
   nlohmann::json solver_settings;    // what the solver was configured with
   std::vector<std::string> notes;    // differences between solvers worth knowing

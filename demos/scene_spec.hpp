@@ -55,6 +55,12 @@ struct SolverSpec {
   // once some Distance element's strain |len/rest - 1| exceeds this (> 0;
   // 1 = an edge twice its rest length).
   double max_strain = 1;
+  // An accuracy target instead of a budget (xpbd_bullet::Tolerance; XPBD and
+  // PBD runs): > 0, the run picks its substeps frame by frame so that the
+  // largest Distance strain stays within it, starting from `substeps`, at
+  // most max_substeps. 0 = off (`substeps` fixed).
+  double tolerance = 0;
+  int max_substeps = 200;  // >= 1
 };
 
 // ---------------------------------------------------------------------------

@@ -49,6 +49,10 @@ void check_settings(const SystemSettings& s) {
   if (s.workers != nullptr && !s.coloured)
     bad("workers", "the threads split the coloured sweep; set coloured = true");
   xpbd::validate(s.health, "SystemSettings.health.");
+  if (!(s.tolerance.strain >= 0) || !std::isfinite(s.tolerance.strain))
+    bad("tolerance.strain", "must be finite and >= 0 (0 = off), got " + xpbd::format_value(s.tolerance.strain));
+  if (s.tolerance.max_substeps < 1)
+    bad("tolerance.max_substeps", "must be >= 1, got " + std::to_string(s.tolerance.max_substeps));
 }
 
 // Bullet has no getter for the pre-tick callback; it is a protected member
@@ -280,6 +284,9 @@ void XpbdWorld::set_settings(SystemId id, const SystemSettings& settings) {
   System& s = system(id);
   check_settings(settings);
   s.settings = settings;
+  s.tol_substeps = 0;
+  s.tol_calm = 0;
+  s.tol_window_max = 0;
   s.asleep = false;
   s.quiet = 0;
 }

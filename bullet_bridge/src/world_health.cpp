@@ -7,6 +7,7 @@
 
 #include "world_impl.hpp"
 #include "xpbd/constraints.hpp"
+#include "xpbd/diagnostics.hpp"
 
 namespace xpbd_bullet {
 
@@ -74,11 +75,7 @@ void XpbdWorld::health_after_step(System& s) {
   xpbd::HealthObservation& o = s.observed;
   o.finite = all_finite(st);
   const Energies e = energies(m, st, to_vec(world_.getGravity()));
-  double strain = 0;
-  for (const xpbd::Distance& d : m.get<xpbd::Distance>()) {
-    const Real len = (st.x[std::size_t(d.p[0])] - st.x[std::size_t(d.p[1])]).norm();
-    strain = std::max(strain, std::abs(double(len / d.rest) - 1.0));
-  }
+  const double strain = double(xpbd::distance_strain(m, st).max);
   // Per step: this step's strain and kinetic energy against the budget so far.
   o.max_strain = strain;
   o.kinetic_max = e.kinetic;

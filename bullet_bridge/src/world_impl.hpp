@@ -152,6 +152,12 @@ struct XpbdWorld::System {
   double edits_input = 0;  // J, energy the application added between steps, summed
   double touch_input = 0;  // J, the most a body or pin could give in one step (2 M v^2)
   std::vector<Vec3> health_pins;  // State::pin_target at the last step
+  // The tolerance's controller (SystemSettings::tolerance, world_contacts.cpp).
+  int tol_substeps = 0;  // substeps for the next step (0: start from SystemSettings::substeps)
+  int tol_calm = 0;      // steps in a row that could have taken fewer substeps
+  double tol_window_max = 0;  // largest strain over those steps
+  int step_substeps = 0;  // substeps of the step being solved (settings' or the tolerance's)
+  xpbd::State tol_saved;  // the state before the solve, for solving the step again
 };
 
 // Who a body is, beyond its address (which a deleted body's successor may

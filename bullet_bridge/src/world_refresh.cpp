@@ -16,7 +16,7 @@ void XpbdWorld::refresh_contacts(System& s, btScalar dt, int sub, std::span<cons
   const xpbd::Model& m = *s.model;
   xpbd::State& st = s.state;
   const ContactSettings& cs = s.settings.contacts;
-  const int substeps = s.settings.substeps;
+  const int substeps = s.step_substeps;
   const Real h = dt / Real(substeps);
   const Real rest = dt - Real(sub) * h;  // s, what is left of the step
   stats_.refreshed += static_cast<int>(escaped.size());

@@ -169,8 +169,38 @@ struct SystemTimes {
   }
 };
 
+// An accuracy target instead of a budget (SystemSettings::tolerance): the
+// system picks its substeps step by step so that its largest Distance strain
+// |len/rest - 1| after the step stays within `strain`, at the least count it
+// finds, within [1, max_substeps]. Rule (docs/tolerance.md):
+//   - after the step's solve (before Bullet's), the strain is measured (one
+//     pass over the Distance elements). Above the tolerance with substeps
+//     to spare, the step is solved again from its start (the state copied
+//     before the solve) with n' = max(n + 1, ceil(n sqrt(strain / (0.7
+//     tolerance)))): one sweep per substep leaves a strain that falls about
+//     as 1/n^2 (the h^2 term), aimed at 70 % of the tolerance. n' is capped
+//     at max_substeps and at 3 times the last step's count (a sudden rise
+//     turns the constraint error the step starts with into velocity at the
+//     shorter substep);
+//   - at the cap above the tolerance, the step is kept and reported
+//     (SystemHealth::tolerance_met = false, StepStats::tolerance_missed);
+//   - downwards, only after 30 steps in a row (0.5 s at 60 Hz) at one count
+//     whose largest strain says fewer would reach 70 % of the tolerance
+//     (taking the strain as 1/n, a cautious guess): then by at most a fifth
+//     (at least one), never below that guess. So the count rises at once
+//     and falls slowly, without going back and forth.
+// The strain from the compliance itself (a link at compliance alpha carrying
+// a force F stretches by alpha F) does not fall with substeps: a tolerance
+// below it is reported as missed at max_substeps.
+struct Tolerance {
+  double strain = 0;       // 1, > 0 turns the target on; 0 = off (SystemSettings::substeps fixed)
+  int max_substeps = 200;  // >= 1: the most substeps the system may take in one step
+};
+
 struct SystemSettings {
-  int substeps = 10;    // XPBD substeps per Bullet internal step (>= 1)
+  // XPBD substeps per Bullet internal step (>= 1); with a tolerance, the
+  // count the first step starts from.
+  int substeps = 10;
   int iterations = 1;   // Gauss-Seidel sweeps per substep (>= 1)
   xpbd::Method method = xpbd::Method::xpbd;
   xpbd::Real drag = 0;  // 1/s
@@ -212,6 +242,7 @@ struct SystemSettings {
   // stays as it was).
   bool check_health = true;
   xpbd::HealthThresholds health;
+  Tolerance tolerance;
   // Opt-in timing: when set, every step of the system adds its stage times
   // to *times (which must outlive the system or be reset to nullptr).
   // nullptr = no timing.
@@ -255,6 +286,11 @@ struct StepStats {
   int over_stretched = 0;
   int exploded = 0;
   int nonfinite = 0;
+  // With a tolerance (SystemSettings::tolerance): steps solved again with
+  // more substeps, and systems that ended the step above their tolerance at
+  // max_substeps.
+  int resolved = 0;
+  int tolerance_missed = 0;
 };
 
 // A system's health after its last step (XpbdWorld::health): the library's
@@ -281,6 +317,11 @@ struct SystemHealth {
   double max_strain = 0;      // 1, largest Distance strain after the step
   double kinetic_energy = 0;  // J, the movable particles' after the step
   double energy_budget = 0;   // J, xpbd::energy_budget of the system so far
+  // Substeps of the last step (SystemSettings::substeps, or what the
+  // tolerance chose), and whether the step met the tolerance (true without
+  // one).
+  int substeps = 0;
+  bool tolerance_met = true;
 };
 
 // Typed ids: a system's id and an attachment's id cannot be mixed up (nor

@@ -139,6 +139,9 @@ inline SceneSpec round_trip(const SceneSpec& s) {
   EXPECT_EQ(back.solver.coloured, s.solver.coloured);
   EXPECT_EQ(back.solver.gravity, s.solver.gravity);
   EXPECT_EQ(back.solver.bullet_kLST, s.solver.bullet_kLST);
+  EXPECT_EQ(back.solver.max_strain, s.solver.max_strain);
+  EXPECT_EQ(back.solver.tolerance, s.solver.tolerance);
+  EXPECT_EQ(back.solver.max_substeps, s.solver.max_substeps);
   const SoftContactSpec &c0 = s.soft.contacts, &c1 = back.soft.contacts;
   EXPECT_EQ(c1.thickness, c0.thickness);
   EXPECT_EQ(c1.margin, c0.margin);

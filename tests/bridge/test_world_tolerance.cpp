@@ -1,0 +1,146 @@
+// The accuracy target (SystemSettings::tolerance): the system picks its
+// substeps so that its largest Distance strain, measured here from the
+// positions after every step, stays within the tolerance; it reports a step
+// it cannot bring within it at max_substeps; the count does not go back and
+// forth on a steady scene; the settings are checked. In the bridge label,
+// so it also runs under the sanitizers (kept short).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "../integration/support.hpp"
+
+namespace {
+
+using namespace xpbd_bullet::test;
+using xpbd_bullet::SystemSettings;
+using xpbd_bullet::XpbdWorld;
+
+// A chain of 30 particles of 1 g, 1 cm links at compliance 0, pinned at its
+// first particle, with a heavy last particle (0.1 kg, 100 times the others),
+// released along `dir` from the pin.
+System heavy_chain(const Vec3& dir) {
+  xpbd::SceneDesc scene;
+  const int n = 30;
+  for (int k = 0; k < n; ++k) {
+    const Real mass = k == 0 ? Real(0) : k == n - 1 ? Real(0.1) : Real(0.001);
+    scene.add_particle(Vec3(0, 1, 0) + Real(0.01) * Real(k) * dir, mass);
+  }
+  for (int k = 0; k + 1 < n; ++k) scene.distances.push_back(xpbd::DistanceDesc{k, k + 1, std::nullopt, {}});
+  return make_system(scene);
+}
+
+// |len/rest - 1| over the chain's links, from the positions.
+double largest_strain(const xpbd::Model& m, const xpbd::State& s) {
+  double e = 0;
+  for (const xpbd::Distance& d : m.get<xpbd::Distance>())
+    e = std::max(e, std::abs(double((s.x[std::size_t(d.p[0])] - s.x[std::size_t(d.p[1])]).norm() / d.rest) - 1.0));
+  return e;
+}
+
+struct Swing {
+  double worst = 0;          // largest strain over the steps
+  int most = 0;              // largest substep count
+  int missed = 0, resolved = 0;
+  std::vector<int> counts;   // substeps per step
+  std::vector<double> strains;  // largest strain after each step
+};
+
+Swing swing(double tolerance, int max_substeps, int steps, const Vec3& dir = Vec3::UnitX()) {
+  BulletWorld bw;
+  XpbdWorld xw(bw.world());
+  System s = heavy_chain(dir);
+  SystemSettings set;
+  set.tolerance.strain = tolerance;
+  set.tolerance.max_substeps = max_substeps;
+  const auto id = xw.add_system(s.model, s.state, set);
+  Swing r;
+  for (int k = 0; k < steps; ++k) {
+    bw.step();
+    const double e = largest_strain(xw.model(id), xw.state(id));
+    r.worst = std::max(r.worst, e);
+    r.most = std::max(r.most, xw.health(id).substeps);
+    r.missed += xw.last_stats().tolerance_missed;
+    r.resolved += xw.last_stats().resolved;
+    r.counts.push_back(xw.health(id).substeps);
+    r.strains.push_back(e);
+    // The report agrees with the strain measured here.
+    if (tolerance > 0) {
+      EXPECT_EQ(xw.health(id).tolerance_met, e <= tolerance * (1 + 1e-9)) << "step " << k << ", strain " << e;
+      EXPECT_EQ(xw.last_stats().tolerance_missed, xw.health(id).tolerance_met ? 0 : 1);
+    }
+  }
+  return r;
+}
+
+// Released horizontal, the chain swings down and the heavy end pulls it
+// far past 5 % at the default 10 substeps. With a 5 % tolerance every step
+// stays within it: the count rises above 10 (steps solved again), never
+// reaching the 400 allowed.
+TEST(WorldTolerance, SwingingHeavyChainStaysWithinTheTolerance) {
+  const Swing fixed = swing(0, 200, 60);
+  ASSERT_GT(fixed.worst, 0.05) << "the chain does not need more than the default";
+  const Swing r = swing(0.05, 400, 60);
+  EXPECT_LE(r.worst, 0.05);
+  EXPECT_EQ(r.missed, 0);
+  EXPECT_GT(r.most, 10);
+  EXPECT_LT(r.most, 400);
+  EXPECT_GT(r.resolved, 0);
+}
+
+// With at most 11 substeps the same chain cannot be held: the steps above
+// the tolerance are kept and reported (tolerance_met false, checked against
+// the measured strain at every step above).
+TEST(WorldTolerance, AtMaxSubstepsAStepAboveTheToleranceIsReported) {
+  const Swing r = swing(0.05, 11, 60);
+  EXPECT_GT(r.worst, 0.05);
+  EXPECT_GT(r.missed, 0);
+  EXPECT_LE(r.most, 11);
+}
+
+// A steady scene: the chain hanging straight down at rest from the start,
+// with a tolerance of 1 %, which needs about ten times the starting 10
+// substeps. A step may take at most 3 times the last one's count, so the
+// first steps may be above it (reported); from the fourth on none is. The
+// count settles and then never rises again after it has fallen, and never
+// alternates (no n, m, n with m != n). (With the strain of the last step
+// alone deciding a fall, the count went 86 -> 69 -> 86 every 93 steps: the
+// heavy end bounces on the chain, and a low step said fewer would do.)
+TEST(WorldTolerance, CountDoesNotGoBackAndForthOnASteadyScene) {
+  const Swing r = swing(0.01, 400, 240, -Vec3::UnitY());
+  for (std::size_t k = 3; k < r.strains.size(); ++k) EXPECT_LE(r.strains[k], 0.01) << "step " << k;
+  bool fell = false;
+  for (std::size_t k = 1; k < r.counts.size(); ++k) {
+    if (r.counts[k] < r.counts[k - 1]) fell = true;
+    if (fell) {
+      EXPECT_LE(r.counts[k], r.counts[k - 1]) << "step " << k << ": rose again after falling";
+    }
+  }
+}
+
+TEST(WorldTolerance, SettingsAreChecked) {
+  BulletWorld bw;
+  XpbdWorld xw(bw.world());
+  System s = heavy_chain(Vec3::UnitX());
+  auto message = [&](SystemSettings set) {
+    try {
+      xw.add_system(s.model, s.state, set);
+    } catch (const xpbd::ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  SystemSettings set;
+  set.tolerance.strain = -0.1;
+  EXPECT_NE(message(set).find("SystemSettings.tolerance.strain"), std::string::npos);
+  set.tolerance.strain = std::nan("");
+  EXPECT_NE(message(set).find("SystemSettings.tolerance.strain"), std::string::npos);
+  set.tolerance.strain = 0.05;
+  set.tolerance.max_substeps = 0;
+  EXPECT_NE(message(set).find("SystemSettings.tolerance.max_substeps"), std::string::npos);
+}
+
+}  // namespace

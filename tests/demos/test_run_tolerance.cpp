@@ -1,0 +1,72 @@
+// A scene with solver.tolerance through the runner: every frame's largest
+// strain (measured by the runner from the positions) stays within it after
+// the first frames, the substeps rise above the start, metrics.json reports
+// them, and btSoftBody says it does not use it.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "demos/scene_runner.hpp"
+
+namespace xpbd_demos {
+namespace {
+
+using xpbd::Real;
+using xpbd::Vec3;
+
+// A chain of 30 particles of 1 g, 1 cm links (compliance 0), pinned at the
+// first, a 0.1 kg last particle, released horizontal: 10 x 1 leaves it far
+// above 5 % strain.
+SceneSpec heavy_chain(double tolerance) {
+  SceneSpec s;
+  s.name = "heavy_chain";
+  s.solver.tolerance = tolerance;
+  s.solver.frames = 60;
+  auto& d = s.soft.particles;
+  const int n = 30;
+  for (int k = 0; k < n; ++k)
+    d.add_particle(Vec3(Real(0.01) * Real(k), 1, 0), k == 0 ? Real(0) : k == n - 1 ? Real(0.1) : Real(0.001));
+  for (int k = 0; k + 1 < n; ++k) d.distances.push_back(xpbd::DistanceDesc{k, k + 1, std::nullopt, {}});
+  return s;
+}
+
+TEST(RunTolerance, EveryFrameWithinTheToleranceAfterTheFirst) {
+  const SceneSpec fixed = heavy_chain(0);
+  const RunResult f = run_scene(fixed, run_options(fixed));
+  ASSERT_GT(f.max_strain, 0.05) << "the scene does not need more than 10 x 1";
+  EXPECT_EQ(f.mean_substeps, 0);  // no tolerance: not reported
+  const SceneSpec spec = heavy_chain(0.05);
+  const RunResult r = run_scene(spec, run_options(spec));
+  ASSERT_EQ(r.series.size(), 61u);
+  int missed = 0;
+  for (std::size_t k = 1; k < r.series.size(); ++k) {
+    ASSERT_TRUE(r.series[k].substeps.has_value());
+    EXPECT_EQ(r.series[k].tolerance_met, r.series[k].max_strain <= 0.05 * (1 + 1e-9)) << "frame " << k;
+    missed += !r.series[k].tolerance_met;
+    if (k > 3) {
+      EXPECT_LE(r.series[k].max_strain, 0.05) << "frame " << k;
+    }
+  }
+  EXPECT_EQ(r.frames_tolerance_missed, missed);
+  EXPECT_GT(r.mean_substeps, 10);
+  EXPECT_LE(r.max_substeps_used, spec.solver.max_substeps);
+  const nlohmann::json j = to_json(r);
+  EXPECT_EQ(j.at("tolerance").at("strain"), 0.05);
+  EXPECT_EQ(j.at("tolerance").at("frames_missed"), missed);
+  EXPECT_EQ(j.at("per_frame")[1].at("substeps"), *r.series[1].substeps);
+}
+
+TEST(RunTolerance, BulletSaysItDoesNotUseIt) {
+  const SceneSpec spec = heavy_chain(0.05);
+  RunOptions opt = run_options(spec);
+  opt.solver = Solver::bullet;
+  opt.frames = 3;
+  const RunResult r = run_scene(spec, opt);
+  bool noted = false;
+  for (const std::string& n : r.notes) noted = noted || n.find("tolerance is not used") != std::string::npos;
+  EXPECT_TRUE(noted);
+  EXPECT_EQ(r.mean_substeps, 0);
+}
+
+}  // namespace
+}  // namespace xpbd_demos
