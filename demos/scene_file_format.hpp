@@ -152,8 +152,11 @@ inline constexpr Keys kSelfCollisionKeys{"enabled", "distance", "skip_connected"
 inline constexpr Keys kClothKeys{"nx", "ny", "size_u", "size_v", "origin", "u", "v", "mass", "radius", "stretch",
                       "shear", "shear_both_diagonals", "shear_mat", "bend_distance", "bend_mat",
                       "hinge_bending", "hinge_mat", "pins", "pinned", "tethers", "tether_metric",
-                      "tether_mat", "collision_triangles"};
-inline constexpr Keys kRopeKeys{"n", "start", "dir", "spacing", "mass", "radius", "pin_first", "mat"};
+                      "tether_mat", "collision_triangles", "velocity", "particle_masses"};
+inline constexpr Keys kClothMassKeys{"i", "j", "mass"};
+inline constexpr Keys kRopeKeys{"n", "start", "dir", "spacing", "mass", "radius", "pin_first", "mat", "velocity",
+                                "particle_masses"};
+inline constexpr Keys kRopeMassKeys{"particle", "mass"};
 inline constexpr Keys kTetBoxKeys{"nx", "ny", "nz", "origin", "size", "split", "mass", "radius", "volume_mat",
                        "bulk_modulus", "edges", "edge_mat", "pinned"};
 inline constexpr Keys kObjKeys{"path", "triangulate", "kind", "scale", "offset", "mass", "radius", "edge_mat",
@@ -178,7 +181,8 @@ inline const std::vector<const Keys*>& all_key_lists() {
       &kDihedralKeys,      &kIsometricKeys, &kTetKeys,    &kTetherKeys,    &kGlobalVolumeKeys,
       &kSelfCollisionKeys, &kClothKeys,     &kRopeKeys,   &kTetBoxKeys,    &kObjKeys,
       &kContactsKeys,      &kBodyKeys,      &kSphereKeys, &kBoxKeys,       &kCapsuleKeys,
-      &kShapePlaneKeys,    &kHullKeys,      &kMeshKeys,   &kAttachmentKeys};
+      &kShapePlaneKeys,    &kHullKeys,      &kMeshKeys,   &kAttachmentKeys, &kClothMassKeys,
+      &kRopeMassKeys};
   return lists;
 }
 

@@ -86,6 +86,17 @@ xpbd::ClothGridDesc read_cloth(const Ctx& c, const json& v, const std::string& p
   o.enumeration("tether_metric", d.tether_metric, kTetherMetric);
   o.material("tether_mat", d.tether_mat);
   o.boolean("collision_triangles", d.collision_triangles);
+  o.vec("velocity", d.velocity);
+  if (const json* p = o.get("particle_masses"))
+    d.particle_masses =
+        read_list<xpbd::ParticleMass>(c, *p, o.at("particle_masses"), [&](const json& e, const std::string& q) {
+          const Obj m(c, e, q, kClothMassKeys);
+          xpbd::ParticleMass pm;
+          m.integer("i", pm.i);
+          m.integer("j", pm.j);
+          m.real("mass", pm.mass);
+          return pm;
+        });
   return d;
 }
 
@@ -100,6 +111,16 @@ xpbd::RopeDesc read_rope(const Ctx& c, const json& v, const std::string& path) {
   o.real("radius", d.radius);
   o.boolean("pin_first", d.pin_first);
   o.material("mat", d.mat);
+  o.vec("velocity", d.velocity);
+  if (const json* p = o.get("particle_masses"))
+    d.particle_masses =
+        read_list<xpbd::ParticleMass>(c, *p, o.at("particle_masses"), [&](const json& e, const std::string& q) {
+          const Obj m(c, e, q, kRopeMassKeys);
+          xpbd::ParticleMass pm;
+          m.integer("particle", pm.i);
+          m.real("mass", pm.mass);
+          return pm;
+        });
   return d;
 }
 

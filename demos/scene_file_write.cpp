@@ -23,7 +23,7 @@ json out_generator(const Generator& g) {
   if (const auto* d = std::get_if<xpbd::ClothGridDesc>(&g)) {
     json pinned = json::array();
     for (const auto& [i, j] : d->pinned) pinned.push_back({i, j});
-    return {{"cloth",
+    json out = {{"cloth",
              {{"nx", d->nx},
               {"ny", d->ny},
               {"size_u", out_real(d->size_u)},
@@ -47,9 +47,18 @@ json out_generator(const Generator& g) {
               {"tether_metric", enum_name(kTetherMetric, d->tether_metric)},
               {"tether_mat", out_mat(d->tether_mat)},
               {"collision_triangles", d->collision_triangles}}}};
+    json& cloth = out["cloth"];
+    if (d->velocity != Vec3::Zero()) cloth["velocity"] = out_vec(d->velocity);
+    if (!d->particle_masses.empty()) {
+      json masses = json::array();
+      for (const xpbd::ParticleMass& m : d->particle_masses)
+        masses.push_back({{"i", m.i}, {"j", m.j}, {"mass", out_real(m.mass)}});
+      cloth["particle_masses"] = masses;
+    }
+    return out;
   }
   if (const auto* d = std::get_if<xpbd::RopeDesc>(&g)) {
-    return {{"rope",
+    json out = {{"rope",
              {{"n", d->n},
               {"start", out_vec(d->start)},
               {"dir", out_vec(d->dir)},
@@ -58,6 +67,15 @@ json out_generator(const Generator& g) {
               {"radius", out_real(d->radius)},
               {"pin_first", d->pin_first},
               {"mat", out_mat(d->mat)}}}};
+    json& rope = out["rope"];
+    if (d->velocity != Vec3::Zero()) rope["velocity"] = out_vec(d->velocity);
+    if (!d->particle_masses.empty()) {
+      json masses = json::array();
+      for (const xpbd::ParticleMass& m : d->particle_masses)
+        masses.push_back({{"particle", m.i}, {"mass", out_real(m.mass)}});
+      rope["particle_masses"] = masses;
+    }
+    return out;
   }
   if (const auto* d = std::get_if<xpbd::TetBoxDesc>(&g)) {
     json pinned = json::array();

@@ -209,6 +209,21 @@ ClothGrid add_cloth_grid(SceneDesc& s, const ClothGridDesc& d) {
   };
   const auto movable = std::count(pin.begin(), pin.end(), char(0));
   const Real m = movable > 0 ? d.mass / Real(movable) : Real(0);
+  std::vector<Real> mass(pin.size(), m);
+  for (std::size_t k = 0; k < d.particle_masses.size(); ++k) {
+    const ParticleMass& pm = d.particle_masses[k];
+    const std::string at = "cloth.particle_masses[" + std::to_string(k) + "]: ";
+    if (pm.i < 0 || pm.i >= d.nx || pm.j < 0 || pm.j >= d.ny)
+      throw SceneError(at + "(" + std::to_string(pm.i) + ", " + std::to_string(pm.j) + ") is outside the " +
+                       std::to_string(d.nx) + " x " + std::to_string(d.ny) + " grid");
+    if (!(pm.mass > Real(0)) || !std::isfinite(pm.mass))
+      throw SceneError(at + "mass must be finite and > 0, got " + format_value(double(pm.mass)));
+    if (is_pinned(pm.i, pm.j))
+      throw SceneError(at + "(" + std::to_string(pm.i) + ", " + std::to_string(pm.j) +
+                       ") is pinned (mass 0); a pinned particle has no mass to set");
+    mass[std::size_t(pm.j) * std::size_t(d.nx) + std::size_t(pm.i)] = pm.mass;
+  }
+  if (!d.velocity.allFinite()) throw SceneError("cloth.velocity: must be finite, got " + format_vec(d.velocity));
 
   // Particles.
   const Real du = d.size_u / Real(d.nx - 1), dv = d.size_v / Real(d.ny - 1);
@@ -216,7 +231,8 @@ ClothGrid add_cloth_grid(SceneDesc& s, const ClothGridDesc& d) {
     for (int i = 0; i < d.nx; ++i) {
       const bool p = is_pinned(i, j);
       const Index k = s.add_particle(d.origin + (Real(i) * du) * d.u + (Real(j) * dv) * d.v,
-                                     p ? Real(0) : m, d.radius);
+                                     p ? Real(0) : mass[std::size_t(j) * std::size_t(d.nx) + std::size_t(i)],
+                                     d.radius, p ? Vec3(Vec3::Zero()) : d.velocity);
       if (p) {
         s.pins.push_back(PinDesc{k, std::nullopt, Material{}});
         g.pinned.push_back(k);
@@ -320,11 +336,24 @@ Index add_rope(SceneDesc& s, const RopeDesc& d) {
   if (d.n < 2) throw SceneError("rope.n: need at least 2 particles, got " + std::to_string(d.n));
   if (!(d.spacing > Real(0)))
     throw SceneError("rope.spacing: must be > 0, got " + std::to_string(d.spacing));
+  std::vector<Real> mass(std::size_t(d.n), d.mass);
+  for (std::size_t k = 0; k < d.particle_masses.size(); ++k) {
+    const ParticleMass& pm = d.particle_masses[k];
+    const std::string at = "rope.particle_masses[" + std::to_string(k) + "]: ";
+    if (pm.i < 0 || pm.i >= d.n)
+      throw SceneError(at + "particle " + std::to_string(pm.i) + " is outside [0, " + std::to_string(d.n) + ")");
+    if (!(pm.mass > Real(0)) || !std::isfinite(pm.mass))
+      throw SceneError(at + "mass must be finite and > 0, got " + format_value(double(pm.mass)));
+    if (d.pin_first && pm.i == 0)
+      throw SceneError(at + "particle 0 is pinned (mass 0); a pinned particle has no mass to set");
+    mass[std::size_t(pm.i)] = pm.mass;
+  }
+  if (!d.velocity.allFinite()) throw SceneError("rope.velocity: must be finite, got " + format_vec(d.velocity));
   const Index first = s.num_particles();
   for (int k = 0; k < d.n; ++k) {
     const bool pin = d.pin_first && k == 0;
-    const Index i = s.add_particle(d.start + (Real(k) * d.spacing) * d.dir, pin ? Real(0) : d.mass,
-                                   d.radius);
+    const Index i = s.add_particle(d.start + (Real(k) * d.spacing) * d.dir, pin ? Real(0) : mass[std::size_t(k)],
+                                   d.radius, pin ? Vec3(Vec3::Zero()) : d.velocity);
     if (pin) s.pins.push_back(PinDesc{i, std::nullopt, Material{}});
     if (k > 0) s.distances.push_back(DistanceDesc{i - 1, i, d.spacing, d.mat});
   }

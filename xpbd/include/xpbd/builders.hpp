@@ -78,6 +78,13 @@ enum class TetherMetric {
 //
 // Edge order in SceneDesc::distances: structural edges particle by particle
 // ((i,j)-(i+1,j) then (i,j)-(i,j+1)), then shear, then bending-distance.
+// The mass of one particle of a cloth grid (i, j) or a rope (particle i, j
+// unused), in place of the generator's even share (kg, finite and > 0).
+struct ParticleMass {
+  int i = 0, j = 0;
+  Real mass = 0;
+};
+
 struct ClothGridDesc {
   int nx = 32, ny = 32;                 // particles per side, >= 2
   Real size_u = 1, size_v = 1;          // m, > 0
@@ -103,6 +110,12 @@ struct ClothGridDesc {
   TetherAnchors tethers = TetherAnchors::none;
   TetherMetric tether_metric = TetherMetric::geodesic;
   Material tether_mat;                  // m/N
+  // m/s: the initial velocity of every movable particle (a thrown cloth).
+  Vec3 velocity = Vec3::Zero();
+  // Masses of single movable particles (i, j) in place of their share of
+  // `mass` (the total is then no longer `mass`); a pinned particle cannot
+  // be listed; a particle listed twice takes the last.
+  std::vector<ParticleMass> particle_masses;
   // Append the triangulation to SceneDesc::collision_triangles, so rigid
   // features (box corners and edges) collide with the cloth's faces in the
   // Bullet bridge, not only with its particles.
@@ -142,6 +155,12 @@ struct RopeDesc {
   Real radius = 0;
   bool pin_first = true;
   Material mat;
+  // m/s: the initial velocity of every movable particle.
+  Vec3 velocity = Vec3::Zero();
+  // Masses of single particles (ParticleMass::i in 0 .. n-1; j unused) in
+  // place of `mass`: a heavy end is {n - 1, 0, 2}. The pinned first particle
+  // cannot be listed; a particle listed twice takes the last.
+  std::vector<ParticleMass> particle_masses;
 };
 
 // Returns the index of the first particle.
