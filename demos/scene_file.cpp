@@ -62,14 +62,10 @@ SolverSpec read_solver(const Ctx& c, const json& v, const std::string& path) {
   o.real("bullet_kLST", s.bullet_kLST);
   c.require(s.bullet_kLST > Real(0) && s.bullet_kLST <= Real(1), o.at("bullet_kLST"),
             "must be in (0, 1], got " + num(s.bullet_kLST));
-  Real max_strain = Real(s.max_strain);
-  o.real("max_strain", max_strain);
-  positive(c, max_strain, o.at("max_strain"));
-  s.max_strain = double(max_strain);
-  Real tolerance = Real(s.tolerance);
-  o.real("tolerance", tolerance);
-  non_negative(c, tolerance, o.at("tolerance"));
-  s.tolerance = double(tolerance);
+  o.number("max_strain", s.max_strain);
+  c.require(s.max_strain > 0, o.at("max_strain"), "must be > 0, got " + num(s.max_strain));
+  o.number("tolerance", s.tolerance);
+  c.require(s.tolerance >= 0, o.at("tolerance"), "must be >= 0, got " + num(s.tolerance));
   o.integer("max_substeps", s.max_substeps);
   at_least(c, s.max_substeps, 1, o.at("max_substeps"));
   return s;

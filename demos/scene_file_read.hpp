@@ -158,6 +158,15 @@ class Obj {
   void real(const char* key, Real& out) const {
     if (const json* v = get(key)) out = read_real(c_, *v, at(key));
   }
+  // A finite double whatever the build's Real (thresholds the solver keeps
+  // in double, so that they round-trip exactly).
+  void number(const char* key, double& out) const {
+    if (const json* v = get(key)) {
+      if (!v->is_number()) c_.fail(at(key), "expected a number, got " + show(*v));
+      out = v->get<double>();
+      if (!std::isfinite(out)) c_.fail(at(key), "must be a finite number, got " + show(*v));
+    }
+  }
   void integer(const char* key, int& out) const {
     if (const json* v = get(key)) out = read_int(c_, *v, at(key));
   }

@@ -263,7 +263,7 @@ namespace {
 // cautious guess. Measured on the built-in stiff scenes (scripts/
 // tolerance.sh): aiming up at 90 % instead of 70 % made heavy_rope blow up
 // (strain 0.17, exploded); a rise capped at 1.5 or 2 times the last count
-// left the cloths' first frames above the tolerance; 3 times did not.
+// left frames above the tolerance; 3 times did not (docs/tolerance.md).
 constexpr double kTolAimUp = 0.7, kTolAimDown = 0.7, kTolRise = 3.0;
 constexpr int kTolCalmSteps = 30;
 int substeps_for(int n, double strain, double aim, double power) {
@@ -468,7 +468,8 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
     strain = double(xpbd::distance_strain(m, st).max);
     if (!(strain > set.tolerance.strain) || subs >= cap) break;
     // Above the tolerance with substeps to spare: solve the step again.
-    subs = std::min(cap, std::max(subs + 1, substeps_for(subs, strain, kTolAimUp * set.tolerance.strain, 2)));
+    subs = std::min(cap,
+                    std::max(subs + 1, substeps_for(subs, strain, kTolAimUp * set.tolerance.strain, 2)));
     st = s.tol_saved;
     ++stats_.resolved;
   }
@@ -481,7 +482,8 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
     // least one). The largest over the steps, not the last: a scene that
     // rings (a heavy end bouncing on its chain) has low and high steps.
     s.tol_window_max = std::max(s.tol_window_max, strain);
-    const int need = std::max(1, std::min(subs, substeps_for(subs, s.tol_window_max, kTolAimDown * set.tolerance.strain, 1)));
+    const int need =
+        std::max(1, std::min(subs, substeps_for(subs, s.tol_window_max, kTolAimDown * set.tolerance.strain, 1)));
     if (need >= subs) {
       s.tol_calm = 0;
       s.tol_window_max = 0;
