@@ -27,8 +27,6 @@ std::vector<std::pair<std::string, double>> stage_breakdown(const xpbd_bullet::S
 // = false keeps nothing else).
 class Summary {
  public:
-  // Frame k >= 1; a non-finite last frame is skipped (a run that went
-  // non-finite keeps the values of its finite frames).
   // The initial state (frame 0): the energy budget's start.
   void start(const FrameMetrics& f0) {
     health_.kinetic0 = f0.kinetic_energy;
@@ -38,6 +36,8 @@ class Summary {
   // J: energy the scene can put in from outside over the run (moving
   // kinematic bodies), added to the budget.
   void set_energy_input(double e) { health_.energy_input = e; }
+  // Frame k >= 1; a non-finite last frame is skipped (a run that went
+  // non-finite keeps the values of its finite frames).
   void add(const FrameMetrics& f) {
     if (!std::isfinite(f.max_strain) || !std::isfinite(f.kinetic_energy) || !std::isfinite(f.potential_energy)) {
       health_.finite = false;

@@ -288,7 +288,7 @@ struct StepStats {
   int nonfinite = 0;
   // With a tolerance (SystemSettings::tolerance): steps solved again with
   // more substeps, and systems that ended the step above their tolerance at
-  // max_substeps.
+  // the cap (max_substeps, or 3 times the last step's count).
   int resolved = 0;
   int tolerance_missed = 0;
 };
