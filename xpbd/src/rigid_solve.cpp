@@ -378,13 +378,18 @@ Real worst_contact_violation(const Model& m, const State& s) {
   return worst;
 }
 
-void update_body_velocities(std::vector<RigidBody>& bodies, Real h) {
+void update_body_velocities(std::vector<RigidBody>& bodies, Real h, Real blend) {
   const Real inv_h = Real(1) / h;
   for (RigidBody& b : bodies) {
+    const Vec3 v_pred = b.v, w_pred = b.w;
     b.v = (b.x - b.x_prev) * inv_h;
     Quat dq = b.q * b.q_prev.conjugate();
     if (dq.w() < Real(0)) dq.coeffs() = -dq.coeffs();
     b.w = (Real(2) * inv_h) * dq.vec();
+    if (blend < Real(1) && b.inv_mass > Real(0)) {
+      b.v = v_pred + blend * (b.v - v_pred);
+      b.w = w_pred + blend * (b.w - w_pred);
+    }
   }
 }
 

@@ -48,8 +48,10 @@ Real worst_contact_violation(const Model& m, const State& s);
 // State::body_contact_impulse (after the solve, before the velocity stage).
 void collect_contact_impulses(State& s, Real h);
 
-// v = (x - x_prev)/h and w from the quaternion change.
-void update_body_velocities(std::vector<RigidBody>& bodies, Real h);
+// v = (x - x_prev)/h and w from the quaternion change. With blend < 1 (a
+// time step that shrank, step.cpp), a dynamic body keeps its predicted
+// velocity plus only `blend` of the change the solve made to it.
+void update_body_velocities(std::vector<RigidBody>& bodies, Real h, Real blend = 1);
 
 // Dynamic Coulomb friction and restitution on velocities (after the
 // particle and body velocity updates).

@@ -100,6 +100,10 @@ struct State {
 
   Real time = 0;          // s, simulated time
   Real last_substep = 0;  // s, h of the last substep (for force estimates)
+  // s, the step length the velocity update measures a shorter step against
+  // (step.cpp, update_velocities): the last step's dt, shortened as time
+  // passes. 0 before the first step.
+  Real velocity_step = 0;
   // Gauss-Seidel sweeps run so far (StepConfig::alternate_sweeps counts its
   // parity across step() calls, so that a host stepping one substep of one
   // iteration at a time still alternates).
