@@ -20,6 +20,7 @@
 // on the axis, and its sphere-triangle contact is two-sided with a negative
 // depth (fcl PR #569). tests/bridge/test_narrowphase_fcl.cpp shows each.
 #include "xpbd_bullet/narrowphase.hpp"
+#include <BulletDynamics/Dynamics/btRigidBody.h>
 
 #include <btBulletCollisionCommon.h>
 #include <BulletCollision/CollisionShapes/btHeightfieldTerrainShape.h>
@@ -780,6 +781,35 @@ void candidates(btCollisionWorld& world, const Vec3& lo, const Vec3& hi,
   AabbCollector cb(to_bt(lo), to_bt(hi), filter_group, filter_mask, out);
   world.getBroadphase()->aabbTest(to_bt(lo), to_bt(hi), cb);
 }
+
+namespace detail {
+
+// Declared in world_impl.hpp (XpbdWorld's contact search).
+void add_moving_candidates(btCollisionWorld& world, const Vec3& lo, const Vec3& hi, Real dt, int filter_group,
+                           int filter_mask, std::vector<const btCollisionObject*>& out) {
+  const btCollisionObjectArray& objects = world.getCollisionObjectArray();
+  for (int i = 0; i < objects.size(); ++i) {
+    const btCollisionObject* obj = objects[i];
+    const btRigidBody* rb = btRigidBody::upcast(obj);
+    if (rb == nullptr || rb->isStaticObject()) continue;  // dynamic and kinematic bodies move
+    const btBroadphaseProxy* proxy = obj->getBroadphaseHandle();
+    if (proxy == nullptr || (proxy->m_collisionFilterGroup & filter_mask) == 0 ||
+        (filter_group & proxy->m_collisionFilterMask) == 0 || !object_has_contacts(*obj))
+      continue;
+    btVector3 amin, amax;
+    obj->getCollisionShape()->getAabb(obj->getWorldTransform(), amin, amax);
+    const btScalar accel = rb->isStaticOrKinematicObject() ? btScalar(0) : (rb->getTotalForce() * rb->getInvMass()).length();
+    const btScalar travel = dt * (rb->getLinearVelocity().length() + dt * accel +
+                                  rb->getAngularVelocity().length() * (amax - amin).length());
+    if (!(travel > 0)) continue;  // at rest (or not finite: left to the caller's checks)
+    bool overlaps = true;
+    for (int a = 0; a < 3; ++a)
+      if (amin[a] - travel > hi[a] || amax[a] + travel < lo[a]) overlaps = false;
+    if (overlaps && std::find(out.begin(), out.end(), obj) == out.end()) out.push_back(obj);
+  }
+}
+
+}  // namespace detail
 
 bool sweep_point(const btCollisionObject& obj, const Vec3& a, const Vec3& b, ParticleContact& out,
                  Real& fraction) {

@@ -65,6 +65,10 @@ struct Candidate {
   Real extent = 0;         // m, diagonal of its AABB
   Box box;                 // m, its AABB at the start pose grown by grow_b
   bool in_grid = false;
+  // Found only by its motion (detail::add_moving_candidates), not by the
+  // broadphase box: contacts where the particle's path relative to it
+  // crosses its surface, or within the margin.
+  bool by_motion = false;
 };
 
 struct GridEntry {

@@ -310,7 +310,8 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
     }
   });
 
-  // Contacts: candidates over the AABB of the particles swept over the step.
+  // Contacts: candidates over the AABB of the particles swept over the step,
+  // and the moving bodies whose motion over the step reaches it.
   if (cs.enabled && n > 0) {
     const auto t0 = std::chrono::steady_clock::now();
     Vec3 lo = Vec3::Constant(std::numeric_limits<Real>::max());
@@ -326,6 +327,9 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
     lo.array() -= grow;
     hi.array() += grow;
     candidates(world_, lo, hi, candidates_, cs.filter_group, cs.filter_mask);
+    const std::size_t by_broadphase = candidates_.size();
+    detail::add_moving_candidates(world_, lo, hi, dt, cs.filter_group, cs.filter_mask, candidates_);
+    by_motion_.assign(candidates_.begin() + std::ptrdiff_t(by_broadphase), candidates_.end());
     const auto bad = std::remove_if(candidates_.begin(), candidates_.end(),
                                     [](const btCollisionObject* o) { return !finite_body(o); });
     stats_.skipped_bodies += static_cast<int>(candidates_.end() - bad);
@@ -344,6 +348,7 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
       const Shadow& sh = shadows_[shi];
       detail::Candidate c;
       c.obj = obj;
+      c.by_motion = std::find(by_motion_.begin(), by_motion_.end(), obj) != by_motion_.end();
       c.to_pose = sh.start_to_pose;
       c.pose_inv = sh.pose.inverse();
       c.vb = sh.v;
@@ -399,8 +404,8 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
         const Vec3 x = to_vec(to_pose * to_bt(st.x[i]));
         const Real travel = dt * ((st.v[i] - vb).norm() + ab + wb * extent);
         ParticleContact c;
-        if (!detail::particle_query(*obj, x, dt * (st.v[i] - vb), travel, thick + cs.margin + travel,
-                                    cs.margin, c))
+        const Real reach = thick + cs.margin + (cand.by_motion ? Real(0) : travel);
+        if (!detail::particle_query(*obj, x, dt * (st.v[i] - vb), travel, reach, cs.margin, c))
           continue;
         if (body < 0) body = body_index(s, obj, dt);
         st.contacts.push_back(detail::body_contact(cs, *obj, i, body, thick, pose_inv, c));

@@ -60,6 +60,16 @@ inline bool in_world(const btCollisionWorld& w, const btCollisionObject* o) {
 
 namespace detail {
 
+// Adds to `out` (the broadphase's candidates for the box lo..hi) every
+// moving rigid body (dynamic or kinematic) that the filters let through and
+// whose AABB, grown by its travel over dt (speed, the acceleration of its
+// applied forces, and its rotation times its AABB's diagonal), overlaps the
+// box, if not listed already. The broadphase knows each body at its pose
+// only: a body faster than its size per step reaches particles its box at
+// the step's start is far from (narrowphase.cpp).
+void add_moving_candidates(btCollisionWorld& world, const Vec3& lo, const Vec3& hi, Real dt, int filter_group,
+                           int filter_mask, std::vector<const btCollisionObject*>& out);
+
 // The narrowphase of one particle against obj: x is the particle at the
 // pose Bullet's shape is at, `motion` its motion relative to the body over
 // the time the contact covers, `travel` a bound on that motion's length.

@@ -132,14 +132,11 @@ TEST(WorldHealth, NonFiniteStateIsNonfinite) {
 //    the budget takes in 2 M v^2 = 200 J for a body touching it at 10 m/s
 //    (a mass hit by a wall at v leaves at most 2v faster): ok.
 // Without either term both would be flagged exploded (50 J > 10 x 1e-3 J).
-// Measured, and not what a real collision does: the box moves 0.17 m per
-// step and reaches the particle's position within one step without a
-// contact (the bridge searches contacts along the particles' motion, not
-// the bodies'), so the next step pushes the particle out of the box's
-// middle: it leaves at 36.5 m/s and the box at -26.5 m/s (momentum
-// conserved, kinetic energy 50 J -> 1017 J). 666 J on the particle is 3.3
-// times the body term, within the factor 10: not flagged. Continuous
-// collision for bodies is issue 16.
+// (The box moves 0.17 m per step. Before the contact search took the
+// bodies' motion in, it reached the particle's position within one step
+// without a contact and the next step threw the particle out at 36.5 m/s,
+// 666 J on the particle, 3.3 times the body term: still not flagged. Now
+// both leave at 5 m/s: integration/test_world_fast_body.)
 TEST(WorldHealth, EnergyTheApplicationOrABodyGivesIsNotFlagged) {
   {
     BulletWorld bw(Vec3::Zero());

@@ -557,6 +557,7 @@ class XpbdWorld : public btActionInterface {
   void drop_departed_bodies();
   // Scratch, reused across steps.
   std::vector<const btCollisionObject*> candidates_;
+  std::vector<const btCollisionObject*> by_motion_;  // of candidates_: found by their motion only
   std::vector<const btCollisionObject*> refresh_candidates_;  // refresh_contacts' own
   // refresh_contacts' scratch: contact index by (particle, body) (pair_key).
   std::unordered_map<std::uint64_t, std::size_t> refresh_pairs_;
