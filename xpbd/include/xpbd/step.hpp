@@ -31,7 +31,11 @@ struct StepConfig {
   // side of the mesh (a heavy ball on a grid cloth walks towards the rows
   // solved first). Alternating removes that bias but converges more slowly
   // on chains and hanging cloth pinned at the end solved first (measured:
-  // Fig. 5's XPBD strain at 5 iterations rose from below 1% to 4%).
+  // Fig. 5's XPBD strain at 5 iterations rose from below 1% to 4%). With one
+  // iteration per substep the direction flips from substep to substep, and
+  // the correction bias that flips with it becomes velocity (v = dx/h):
+  // stiff cloths explode at every budget from 10 x 1 to 160 x 1
+  // (docs/convergence.md). Use it with iterations >= 2.
   bool alternate_sweeps = false;
   // Coloured sweep of the Distance elements: they are projected in the order
   // of Model::distance_colours (model.hpp: colour by colour, no two elements
