@@ -20,9 +20,9 @@
 // on the axis, and its sphere-triangle contact is two-sided with a negative
 // depth (fcl PR #569). tests/bridge/test_narrowphase_fcl.cpp shows each.
 #include "xpbd_bullet/narrowphase.hpp"
-#include <BulletDynamics/Dynamics/btRigidBody.h>
 
 #include <btBulletCollisionCommon.h>
+#include <BulletDynamics/Dynamics/btRigidBody.h>
 #include <BulletCollision/CollisionShapes/btHeightfieldTerrainShape.h>
 #include <BulletCollision/NarrowPhaseCollision/btGjkEpa2.h>
 #include <Eigen/Geometry>
