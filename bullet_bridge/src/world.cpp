@@ -386,6 +386,28 @@ void XpbdWorld::run_systems(btScalar dt) {
     return s->error.empty() && s->settings.contacts.enabled && s->model->num_particles() > 0;
   });
   if (collides) world_.updateAabbs();
+  // Dynamic bodies attached to a system that steps now, with no prediction
+  // of Bullet's contacts on them from the last step: their first coupled
+  // step (or the first after a pause), probed (world_probe.cpp).
+  std::vector<detail::ProbeLoad> probes;  // allocates only when there is one
+  for (const Attachment& a : attachments_) {
+    btRigidBody* rb = a.body;
+    if (rb->isStaticOrKinematicObject() ||
+        std::any_of(predicted_.begin(), predicted_.end(), [&](const Predicted& p) { return p.body == rb; }) ||
+        !in_world(world_, rb) || !finite_body(rb))
+      continue;
+    const auto s = std::find_if(systems_.begin(), systems_.end(), [&](auto& t) { return t->id == a.system; });
+    if (s == systems_.end() || !(*s)->error.empty() || ((*s)->asleep && !must_wake(**s, dt))) continue;
+    const bool skip_static = (*s)->settings.coupled_static_contacts && rb->hasContactResponse();
+    auto p = std::find_if(probes.begin(), probes.end(), [&](const detail::ProbeLoad& q) { return q.body == rb; });
+    if (p == probes.end())
+      probes.push_back(detail::ProbeLoad{rb, skip_static});
+    else
+      p->skip_static = p->skip_static || skip_static;
+  }
+  if (!probes.empty()) detail::probe_loads(world_, probes, dt);
+  for (const detail::ProbeLoad& p : probes)
+    predicted_.push_back(Predicted{p.body, BodyIdentity::of(p.body), to_vec(p.accel), to_vec(p.ang_accel)});
   for (auto& s : systems_) {
     s->stepped = false;
     if (!s->error.empty()) continue;

@@ -70,6 +70,21 @@ namespace detail {
 void add_moving_candidates(btCollisionWorld& world, const Vec3& lo, const Vec3& hi, Real dt, int filter_group,
                            int filter_mask, std::vector<const btCollisionObject*>& out);
 
+// A dynamic body about to be coupled without a prediction of Bullet's
+// contacts on it (its first coupled step): the probe fills accel and
+// ang_accel with what Bullet's contacts put on it when it is held fixed,
+// over its mass and dt (world_probe.cpp). skip_static leaves out its
+// contacts with static bodies, which XPBD solves itself
+// (SystemSettings::coupled_static_contacts).
+struct ProbeLoad {
+  btRigidBody* body = nullptr;
+  bool skip_static = false;
+  btVector3 accel{0, 0, 0}, ang_accel{0, 0, 0};
+};
+// Runs collision detection, then Bullet's solver once with the bodies held
+// fixed, and puts back everything the solve wrote (world_probe.cpp).
+void probe_loads(btDiscreteDynamicsWorld& world, std::vector<ProbeLoad>& bodies, btScalar dt);
+
 // The narrowphase of one particle against obj: x is the particle at the
 // pose Bullet's shape is at, `motion` its motion relative to the body over
 // the time the contact covers, `travel` a bound on that motion's length.
