@@ -41,6 +41,8 @@ void check_settings(const SystemSettings& s) {
   nonneg("compliance", c.compliance);
   if (!(c.feature_spacing > Real(0)) || !std::isfinite(c.feature_spacing))
     bad("contacts.feature_spacing", "must be finite and > 0, got " + xpbd::format_value(double(c.feature_spacing)));
+  if (c.triangle_bvh_from < 0)
+    bad("contacts.triangle_bvh_from", "must be >= 0, got " + std::to_string(c.triangle_bvh_from));
   if (c.restitution > Real(1)) bad("contacts.restitution", "must be <= 1, got " + xpbd::format_value(double(c.restitution)));
   if (!(s.sleep_speed >= Real(0)) || !std::isfinite(s.sleep_speed))
     bad("sleep_speed", "must be finite and >= 0, got " + xpbd::format_value(double(s.sleep_speed)));

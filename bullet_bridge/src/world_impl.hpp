@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "pair_culling.hpp"
+#include "triangle_bvh.hpp"
 #include "xpbd/rigid.hpp"
 #include "xpbd_bullet/narrowphase.hpp"
 #include "xpbd_bullet/world.hpp"
@@ -161,6 +162,7 @@ struct XpbdWorld::System {
   std::vector<int> shadow_of_body;  // per State::bodies entry: index into shadows_
   std::vector<xpbd::RigidBody> free_bodies;  // scratch: bodies moved without contacts
   detail::ContactScratch contact;            // scratch of the contact search
+  std::unique_ptr<detail::TriangleBvh> tri_bvh;  // ContactSettings::triangle_bvh_from; made on first use
   std::vector<BodyContactReport> report;     // contact_report(id): the last step's
   StepCallback callback;                     // set_step_callback(id)
   bool stepped = false;                      // stepped in the current internal step

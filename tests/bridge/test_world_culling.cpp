@@ -9,10 +9,14 @@
 // them bitwise identical. That is checked here on a scene with every shape
 // kind the narrowphase supports, static, spinning and moving bodies, pinned
 // particles and particles fast enough to take the sweep path; and at the
-// culling boundary itself against closed-form distances.
+// culling boundary itself against closed-form distances. The same holds for
+// the rigid features against the cloth's collision triangles, found through
+// FCL's hierarchy of the triangles (ContactSettings::triangle_bvh_from = 0)
+// or by the loop over every triangle.
 #include <gtest/gtest.h>
 
 #include <array>
+#include <limits>
 #include <map>
 #include <memory>
 #include <string>
@@ -42,7 +46,9 @@ struct Scene {
   std::vector<std::pair<std::string, btRigidBody*>> bodies;
   xpbd_bullet::SystemId cloth, shots;
 
-  explicit Scene(bool cull) {
+  // triangles: the cloth has collision triangles, and bvh_from is its
+  // ContactSettings::triangle_bvh_from.
+  explicit Scene(bool cull, bool triangles = false, int bvh_from = 0) {
     auto add = [&](const std::string& name, btRigidBody* b) { bodies.emplace_back(name, b); };
     add("plane", bw.add_body(new btStaticPlaneShape(btVector3(0, 1, 0), 0), 0, pose(Vec3::Zero())));
     add("sphere", bw.add_static_sphere(Real(0.15), Vec3(Real(-0.3), Real(0.15), Real(-0.3))));
@@ -95,6 +101,7 @@ struct Scene {
     SystemSettings set;
     set.iterations = 2;
     set.contacts.cull = cull;
+    set.contacts.triangle_bvh_from = bvh_from;
     {
       // 16 x 16 cloth, 1.4 m, two corners pinned (inverse mass 0: never in a contact).
       xpbd::SceneDesc scene;
@@ -108,6 +115,7 @@ struct Scene {
       d.radius = Real(0.004);
       d.bend_mat.compliance = Real(1e-2);
       d.pinned = {{0, 0}, {15, 0}};
+      d.collision_triangles = triangles;
       xpbd::add_cloth_grid(scene, d);
       System s = make_system(scene);
       cloth = xw->add_system(s.model, s.state, set);
@@ -197,6 +205,40 @@ TEST(WorldCulling, SameContactsAndTrajectoriesAsBruteForceOnEveryShapeKind) {
   EXPECT_GT(shot_contacts, 0);
   EXPECT_LT(queries_culled, queries_brute / 2);
   std::printf("queries over %d steps: %ld culled, %ld brute force\n", steps, queries_culled, queries_brute);
+}
+
+// The hierarchy of the collision triangles only filters: every triangle it
+// drops fails the loop's own box test, so the triangle contacts (and the
+// step) are the loop's, bit for bit, over 1 s of a cloth falling onto
+// boxes, a hull, a compound and a fast-spinning box.
+TEST(WorldCulling, TriangleHierarchyGivesTheLoopsTriangleContacts) {
+  Scene bvh(true, true, 0), loop(true, true, std::numeric_limits<int>::max());
+  long triangle_contacts = 0;
+  std::map<std::string, int> per_body;
+  for (int k = 0; k < 60; ++k) {
+    bvh.bw.step();
+    loop.bw.step();
+    const std::string where = "step " + std::to_string(k);
+    const xpbd::State& a = bvh.xw->state(bvh.cloth);
+    const xpbd::State& b = loop.xw->state(loop.cloth);
+    ASSERT_EQ(a.triangle_contacts.size(), b.triangle_contacts.size()) << where;
+    for (std::size_t c = 0; c < a.triangle_contacts.size(); ++c) {
+      const xpbd::BodyTriangleContact &p = a.triangle_contacts[c], &q = b.triangle_contacts[c];
+      ASSERT_TRUE(p.body == q.body && p.r == q.r && p.tri == q.tri && p.side == q.side && p.thickness == q.thickness)
+          << where << ", triangle contact " << c;
+      ++per_body[bvh.body_name(bvh.cloth, p.body)];
+    }
+    triangle_contacts += long(a.triangle_contacts.size());
+    ASSERT_EQ(a.x, b.x) << where;
+    ASSERT_EQ(a.v, b.v) << where;
+  }
+  // It means something only if features of several bodies, the spinning
+  // one among them, met the triangles.
+  std::printf("triangle contacts over 60 steps: %ld (box %d, hull %d, compound %d, spinner %d)\n",
+              triangle_contacts, per_body["box"], per_body["hull"], per_body["compound"], per_body["spinner"]);
+  EXPECT_GT(per_body["box"], 0);
+  EXPECT_GT(per_body["spinner"], 0);
+  EXPECT_GT(per_body["compound"] + per_body["hull"], 0);
 }
 
 // At the edge of the culling box. A particle at rest at distance d from a

@@ -1,0 +1,178 @@
+// Rigid features against a cloth's collision triangles: the loop over every
+// triangle against FCL's refitted hierarchy of the triangles
+// (ContactSettings::triangle_bvh_from; docs/collision-queries.md, "Rigid
+// features against cloth triangles").
+//
+// Scene, per cloth size n x n (the arguments; by default 4 .. 128): a 2 m x 2 m cloth (1 kg, the
+// compliances of bench_contacts' cloth) with collision triangles, dropped
+// from 0.35 m onto 50 static boxes (half extent 6 cm: 8 corners and points
+// along the edges 1 cm apart, 140 features each) on the black squares of a
+// 10 x 10 grid 0.2 m apart, at 60 Hz with 10 substeps x 1 iteration. After
+// 45 steps it lies on them; that state is the snapshot every timed call
+// starts from. Per size and mode (loop, hierarchy), one bridge step from the
+// snapshot (XpbdWorld::pre_solve + updateAction, what Bullet runs per
+// internal step) is repeated, and the contact generation time the bridge
+// measures itself (StepStats::contact_seconds: broadphase, particle and
+// triangle contacts) is kept; the cloth's own step (xpbd::step from the
+// snapshot, no bodies, no contacts) is timed the same way. Printed: medians
+// in ms, and each contact time over the cloth's step measured in the same
+// run. Before timing, both modes must give the same triangle contacts, or
+// the program exits with status 1.
+//
+//   cmake --build build/double --target bench_triangles && build/double/demos/bench/bench_triangles [n ...]
+#include <btBulletDynamicsCommon.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include "xpbd/xpbd.hpp"
+#include "xpbd_bullet/world.hpp"
+
+namespace {
+
+using namespace xpbd;
+
+constexpr Real kDt = Real(1) / Real(60);
+constexpr int kRepeats = 15;
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+struct Scene {
+  btDefaultCollisionConfiguration config;
+  btCollisionDispatcher dispatcher{&config};
+  btDbvtBroadphase broadphase;
+  btSequentialImpulseConstraintSolver solver;
+  btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &config};
+  btBoxShape box{btVector3(Real(0.06), Real(0.06), Real(0.06))};
+  std::vector<std::unique_ptr<btRigidBody>> bodies;
+  std::unique_ptr<xpbd_bullet::XpbdWorld> xw;
+  xpbd_bullet::SystemId id;
+  std::shared_ptr<const Model> model;
+  State snapshot;
+  int triangles = 0;
+
+  explicit Scene(int n) {
+    world.setGravity(btVector3(0, Real(-9.81), 0));
+    for (int i = 0; i < 10; ++i)
+      for (int k = 0; k < 10; ++k) {
+        if ((i + k) % 2) continue;
+        btRigidBody::btRigidBodyConstructionInfo info(0, nullptr, &box);
+        info.m_startWorldTransform.setOrigin(
+            btVector3((Real(i) - Real(4.5)) * Real(0.2), Real(0.1), (Real(k) - Real(4.5)) * Real(0.2)));
+        bodies.emplace_back(new btRigidBody(info));
+        world.addRigidBody(bodies.back().get());
+      }
+    SceneDesc scene;
+    ClothGridDesc d;
+    d.nx = d.ny = n;
+    d.size_u = d.size_v = 2;
+    d.u = Vec3::UnitX();
+    d.v = Vec3::UnitZ();
+    d.origin = Vec3(-1, Real(0.35), -1);
+    d.mass = 1;
+    d.stretch.compliance = Real(1e-6);
+    d.shear_mat.compliance = Real(1e-5);
+    d.bend_mat.compliance = Real(1e-4);
+    d.collision_triangles = true;
+    add_cloth_grid(scene, d);
+    model = std::make_shared<Model>(compile(scene));
+    triangles = int(model->collision_triangles.size());
+    xw = std::make_unique<xpbd_bullet::XpbdWorld>(world);
+    id = xw->add_system(model, make_state(*model), settings(0));
+    for (int i = 0; i < 45; ++i) world.stepSimulation(kDt, 1, kDt);
+    snapshot = xw->state(id);
+  }
+  ~Scene() {
+    xw.reset();
+    for (auto& b : bodies) world.removeRigidBody(b.get());
+  }
+
+  static xpbd_bullet::SystemSettings settings(int bvh_from) {
+    xpbd_bullet::SystemSettings s;  // 10 substeps x 1 iteration, default contacts
+    s.contacts.triangle_bvh_from = bvh_from;
+    return s;
+  }
+
+  // One bridge step from the snapshot; returns the contact generation time (s).
+  double bridge_step(bool bvh, std::vector<BodyTriangleContact>* contacts = nullptr) {
+    xw->set_settings(id, settings(bvh ? 0 : std::numeric_limits<int>::max()));
+    xw->state(id) = snapshot;
+    xw->pre_solve(kDt);
+    if (contacts) *contacts = xw->state(id).triangle_contacts;
+    xw->updateAction(&world, kDt);
+    const double s = xw->last_stats().contact_seconds;
+    xw->state(id) = snapshot;
+    return s;
+  }
+
+  double cloth_step() {
+    State st = snapshot;
+    st.bodies.clear();
+    st.contacts.clear();
+    st.attachments.clear();
+    st.triangle_contacts.clear();
+    StepConfig c;
+    c.dt = kDt;
+    c.substeps = 10;
+    c.gravity = Vec3(0, Real(-9.81), 0);
+    const auto t0 = std::chrono::steady_clock::now();
+    step(*model, st, c);
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+};
+
+bool same(const std::vector<BodyTriangleContact>& a, const std::vector<BodyTriangleContact>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t k = 0; k < a.size(); ++k)
+    if (a[k].body != b[k].body || a[k].r != b[k].r || a[k].tri != b[k].tri || a[k].side != b[k].side ||
+        a[k].thickness != b[k].thickness)
+      return false;
+  return true;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Cloth sizes: the arguments (each >= 2), or the default ladder.
+  std::vector<int> sizes = {4, 8, 16, 32, 64, 128};
+  if (argc > 1) sizes.clear();
+  for (int i = 1; i < argc; ++i) {
+    const int n = std::atoi(argv[i]);
+    if (n < 2) {
+      std::fprintf(stderr, "bench_triangles: cloth size '%s' is not an integer >= 2\n", argv[i]);
+      return 2;
+    }
+    sizes.push_back(n);
+  }
+  std::printf("| cloth | triangles | triangle contacts | cloth step (ms) | contacts, loop (ms) | contacts, hierarchy (ms) "
+              "| loop / cloth step | hierarchy / cloth step | loop / hierarchy |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|\n");
+  for (const int n : sizes) {
+    Scene s(n);
+    std::vector<BodyTriangleContact> a, b;
+    s.bridge_step(false, &a);
+    s.bridge_step(true, &b);
+    if (!same(a, b)) {
+      std::fprintf(stderr, "bench_triangles: %d x %d: the hierarchy's triangle contacts differ from the loop's\n", n, n);
+      return 1;
+    }
+    std::vector<double> loop, bvh, cloth;
+    for (int r = 0; r < kRepeats; ++r) {  // interleaved, so that load hits all three alike
+      loop.push_back(s.bridge_step(false));
+      bvh.push_back(s.bridge_step(true));
+      cloth.push_back(s.cloth_step());
+    }
+    const double l = median(loop) * 1e3, h = median(bvh) * 1e3, c = median(cloth) * 1e3;
+    std::printf("| %d x %d | %d | %zu | %.3f | %.3f | %.3f | %.2f | %.2f | %.1f |\n", n, n, s.triangles, a.size(), c, l,
+                h, l / c, h / c, l / h);
+  }
+  return 0;
+}
