@@ -199,6 +199,9 @@ void XpbdWorld::find_triangle_contacts(System& s, btScalar dt, const Vec3& lo, c
       c.tri = tri;
       c.side = dist >= Real(0) ? Real(1) : Real(-1);
       c.thickness = thick;
+      // Combined with the body's friction by product, as particle contacts.
+      c.static_friction = cs.static_friction * obj->getFriction();
+      c.dynamic_friction = cs.dynamic_friction * obj->getFriction();
       st.triangle_contacts.push_back(c);
     };
     // Every triangle whose grown box a feature's box can reach has a swept

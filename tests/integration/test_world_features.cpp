@@ -44,13 +44,12 @@ void add_floor(BulletWorld& bw) {
 // vertical, the three faces falling away at 54.7 degrees) points up,
 // 0.15 m above the floor. A coarse square cloth (10 x 10 particles 0.1 m
 // apart, 0.9 m wide) is dropped onto it from 5 cm above and comes to rest
-// draped over the feature, its hems on the floor. The floor matters: the
-// feature-triangle contacts are frictionless (rigid_solve.cpp
-// solve_triangle_contacts has no tangential part), so a cloth hanging free
-// over a ridge or point is in unstable equilibrium, like a rope over a
-// frictionless peg, and slides off (measured without the floor, on a box
-// standing free: the cloth slid off within 1 s); with its hems on the
-// floor, friction holds it.
+// draped over the feature, its hems on the floor. The floor matters: a
+// cloth hanging free over a ridge or point slides off (measured without
+// the floor, on a box standing free: within 1 s when these contacts had
+// no friction, and still with their friction at mu up to 1:
+// docs/bullet-bridge.md, section 6, item 2); with its hems on the floor,
+// friction holds it.
 //
 // The feature meets the cloth between particles: the ridge runs midway
 // between two particle columns, the corner under the centroid of a

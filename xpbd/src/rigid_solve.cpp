@@ -124,7 +124,7 @@ void begin_substep(const Model& m, State& s) {
   (void)m;
   std::fill(s.attachment_lambda.begin(), s.attachment_lambda.end(), Real(0));
   std::fill(s.attachment_impulse.begin(), s.attachment_impulse.end(), Vec3::Zero());
-  std::fill(s.triangle_contact_lambda.begin(), s.triangle_contact_lambda.end(), Real(0));
+  std::fill(s.triangle_contact_lambda.begin(), s.triangle_contact_lambda.end(), ContactLambda{});
   std::fill(s.world_contact_lambda.begin(), s.world_contact_lambda.end(), ContactLambda{});
   for (std::size_t k = 0; k < s.contacts.size(); ++k) {
     const BodyContact& c = s.contacts[k];
@@ -250,6 +250,72 @@ void solve_contacts(const Model& m, State& s, Real h) {
   }
 }
 
+namespace {
+
+// Barycentric weights of q's projection onto triangle (x1, x2, x3), each
+// clamped to [0, 1] and renormalised (a feature may lie a little outside
+// the triangle it was matched with). False for a degenerate triangle.
+bool triangle_weights(const Vec3& q, const Vec3& x1, const Vec3& x2, const Vec3& x3, Real w[3]) {
+  const Vec3 e1 = x2 - x1, e2 = x3 - x1, d = q - x1;
+  const Vec3 nn = e1.cross(e2);
+  const Real a2 = nn.squaredNorm();
+  if (!(a2 > Real(0))) return false;
+  w[1] = std::clamp(d.cross(e2).dot(nn) / a2, Real(0), Real(1));
+  w[2] = std::clamp(e1.cross(d).dot(nn) / a2, Real(0), Real(1));
+  w[0] = std::max(Real(1) - w[1] - w[2], Real(0));
+  const Real sum = w[0] + w[1] + w[2];
+  for (int i = 0; i < 3; ++i) w[i] /= sum;
+  return true;
+}
+
+// The triangle's share of a push along unit t at weights w: sum w_i^2 / m_i.
+Real triangle_inv_mass(const Model& m, const std::array<Index, 3>& tri, const Real w[3]) {
+  Real sum = 0;
+  for (int i = 0; i < 3; ++i) sum += w[i] * w[i] * m.inv_mass[tri[i]];
+  return sum;
+}
+
+// Friction of triangle contact k at position level: undo the feature
+// point's tangential motion over the substep relative to the triangle's
+// point under it, with the tangential multiplier clamped to the cone
+// |lambda_t| <= mu_s lambda_n. Clamped, not all-or-nothing as a particle
+// contact's (solve_contact_friction): a body rests on many feature points,
+// and no single point's cone can stop the whole body, so all-or-nothing
+// let a box creep down an incline it should stick to (8.8 mm in 1 s at
+// 20 degrees, mu 0.5). What the clamp leaves to slide, the velocity pass
+// (triangle_contact_velocities) brakes with the rest of mu_d lambda_n.
+void solve_triangle_friction(const Model& m, State& s, std::size_t k, const Vec3& n) {
+  const BodyTriangleContact& c = s.triangle_contacts[k];
+  ContactLambda& l = s.triangle_contact_lambda[k];
+  if (c.static_friction <= Real(0) || l.normal <= Real(0)) return;
+  RigidBody& b = body_or_world(s, c.body);
+  const bool world = c.body < 0;
+  const Vec3 rw = world ? Vec3::Zero() : Vec3(b.q * c.r);
+  const Vec3 q = world ? c.r : Vec3(b.x + rw);
+  const Vec3 q_prev = world ? c.r : Vec3(b.x_prev + b.q_prev * c.r);
+  Real w[3];
+  if (!triangle_weights(q, s.x[c.tri[0]], s.x[c.tri[1]], s.x[c.tri[2]], w)) return;
+  Vec3 tri_moved = Vec3::Zero();
+  for (int i = 0; i < 3; ++i) tri_moved += w[i] * (s.x[c.tri[i]] - s.x_prev[c.tri[i]]);
+  const Vec3 rel = (q - q_prev) - tri_moved;
+  const Vec3 dt = rel - n.dot(rel) * n;
+  const Real len = dt.norm();
+  if (!(len > kDegenerateRel * c.thickness) || len == Real(0)) return;
+  const Vec3 t = dt / len;
+  const Real wt = inv_mass_along(b, rw, t) + triangle_inv_mass(m, c.tri, w);
+  if (!(wt > Real(0))) return;
+  const Real cap = c.static_friction * l.normal;
+  const Real lt = std::clamp(l.tangent - len / wt, -cap, cap);
+  const Real dlt = lt - l.tangent;
+  if (dlt == Real(0)) return;
+  l.tangent = lt;
+  for (int i = 0; i < 3; ++i) s.x[c.tri[i]] -= (m.inv_mass[c.tri[i]] * w[i] * dlt) * t;
+  apply_position_impulse(b, rw, dlt * t);
+  record_push(s, c.body, dlt * t);
+}
+
+}  // namespace
+
 void solve_triangle_contacts(const Model& m, State& s) {
   for (std::size_t k = 0; k < s.triangle_contacts.size(); ++k) {
     const BodyTriangleContact& c = s.triangle_contacts[k];
@@ -261,7 +327,7 @@ void solve_triangle_contacts(const Model& m, State& s) {
     if (!Penetration::point_triangle(q, s.x[c.tri[0]], s.x[c.tri[1]], s.x[c.tri[2]], c.side,
                                      c.thickness, C, g))
       continue;  // degenerate triangle
-    Real& lambda = s.triangle_contact_lambda[k];
+    Real& lambda = s.triangle_contact_lambda[k].normal;
     if (C >= Real(0) && lambda == Real(0)) continue;
     // g[0] = s n is a unit vector: the body's share is its inverse mass along it.
     Real den = inv_mass_along(b, rw, g[0]);
@@ -273,6 +339,40 @@ void solve_triangle_contacts(const Model& m, State& s) {
     for (int i = 0; i < 3; ++i) s.x[c.tri[i]] += (m.inv_mass[c.tri[i]] * dl) * g[i + 1];
     apply_position_impulse(b, rw, dl * g[0]);
     record_push(s, c.body, dl * g[0]);
+    solve_triangle_friction(m, s, k, g[0]);
+  }
+}
+
+void triangle_contact_velocities(const Model& m, State& s, Real h) {
+  const Real inv_h = Real(1) / h;
+  for (std::size_t k = 0; k < s.triangle_contacts.size(); ++k) {
+    const BodyTriangleContact& c = s.triangle_contacts[k];
+    const ContactLambda& l = s.triangle_contact_lambda[k];
+    // What the position-level friction has not used of mu_d lambda_n.
+    const Real budget = c.dynamic_friction * l.normal - std::abs(l.tangent);
+    if (!(budget > Real(0))) continue;
+    RigidBody& b = body_or_world(s, c.body);
+    const bool world = c.body < 0;
+    const Vec3 rw = world ? Vec3::Zero() : Vec3(b.q * c.r);
+    const Vec3 q = world ? c.r : Vec3(b.x + rw);
+    const Vec3 x1 = s.x[c.tri[0]], x2 = s.x[c.tri[1]], x3 = s.x[c.tri[2]];
+    Real w[3];
+    if (!triangle_weights(q, x1, x2, x3, w)) continue;
+    const Vec3 nn = (x2 - x1).cross(x3 - x1);
+    const Vec3 n = nn.normalized();
+    Vec3 vt = (world ? Vec3::Zero() : point_velocity(b, rw));
+    for (int i = 0; i < 3; ++i) vt -= w[i] * s.v[c.tri[i]];
+    vt -= n.dot(vt) * n;
+    const Real vt_len = vt.norm();
+    if (!(vt_len > Real(0))) continue;
+    const Vec3 t = vt / vt_len;
+    const Real wt = inv_mass_along(b, rw, t) + triangle_inv_mass(m, c.tri, w);
+    if (!(wt > Real(0))) continue;
+    // At most that budget over h, and never more than stops the sliding.
+    const Real jt = std::min(budget * inv_h, vt_len / wt);
+    for (int i = 0; i < 3; ++i) s.v[c.tri[i]] += (m.inv_mass[c.tri[i]] * w[i] * jt) * t;
+    apply_velocity_impulse(b, rw, -jt * t);
+    record_impulse(s, c.body, -jt * t);
   }
 }
 

@@ -368,8 +368,10 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
       s.velocity_step = std::max({cfg.dt, s.velocity_step - h, Real(0.99) * s.velocity_step});
     });
     // 5. Contact friction and restitution on the new velocities.
-    timed(t, stage::contact_velocities, !s.contacts.empty(),
-          [&] { rigid::contact_velocities(m, s, h, cfg.gravity.norm()); });
+    timed(t, stage::contact_velocities, !s.contacts.empty() || !s.triangle_contacts.empty(), [&] {
+      if (!s.contacts.empty()) rigid::contact_velocities(m, s, h, cfg.gravity.norm());
+      if (!s.triangle_contacts.empty()) rigid::triangle_contact_velocities(m, s, h);
+    });
     timed(t, stage::contact_velocities, !s.world_contacts.empty(),
           [&] { rigid::world_contact_velocities(s, h); });
   }

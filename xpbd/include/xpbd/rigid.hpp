@@ -73,13 +73,21 @@ struct BodyAttachment {
 // with the side s recorded when the contact is found (start of the step), so
 // a corner that crossed the cloth during the step is pushed back. Gradients
 // as Penetration::point_triangle (constraints_contact.hpp); the body takes
-// its share through the generalized inverse mass along n.
+// its share through the generalized inverse mass along n. Coulomb friction
+// between the feature point and the triangle's point under it (its
+// barycentric weights w_i spread the triangle's share: inverse mass
+// sum w_i^2 / m_i): at position level with the tangential multiplier
+// clamped to static_friction lambda_n, then on the velocities with what is
+// left of dynamic_friction lambda_n, over h (rigid_solve.cpp says why it is
+// clamped, where a particle contact's is all-or-nothing).
 struct BodyTriangleContact {
   Index body = -1;                   // index into State::bodies (-1 = static world point)
   Vec3 r = Vec3::Zero();             // m, feature point, body frame (world if body < 0)
   std::array<Index, 3> tri{};        // particle indices of the soft triangle
   Real side = 1;                     // +1 or -1
   Real thickness = 0;                // m
+  Real static_friction = 0;          // mu_s, >= 0
+  Real dynamic_friction = 0;         // mu_d, >= 0
 };
 
 // A rigid body resting on (or touching) the static world or another body:

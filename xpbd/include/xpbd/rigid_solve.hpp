@@ -31,6 +31,9 @@ void predict_bodies(std::vector<RigidBody>& bodies, Real h);
 void solve_attachments(const Model& m, State& s, Real h);
 void solve_contacts(const Model& m, State& s, Real h);
 void solve_triangle_contacts(const Model& m, State& s);
+// Dynamic Coulomb friction of the rigid-feature-vs-triangle contacts on
+// the new velocities (after the particle and body velocity updates).
+void triangle_contact_velocities(const Model& m, State& s, Real h);
 // Bodies against the static world (BodyWorldContact): normal push, then
 // static Coulomb friction at position level.
 void solve_world_contacts(State& s);
