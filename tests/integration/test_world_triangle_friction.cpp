@@ -91,8 +91,8 @@ TEST(WorldTriangleFriction, BoxSlidesDownTheInclineAtTheCoulombAcceleration) {
               "motion %.2g m, %.2g m\n",
               double(with.along), double(travel(a)), double(without.along), double(travel(a0)),
               double(with.normal), double(without.normal));
-  // Within 1 % of the closed form (measured: 0.04 %; the box's features
-  // meet new triangles as it slides).
+  // Within 1 % of the closed form (measured: 0.04 % in double; 0.67 % in
+  // float, where the frictionless run is 0.61 % off as well, not isolated).
   EXPECT_NEAR(with.along, travel(a), Real(0.01) * travel(a));
   // Control: frictionless it slides at g sin theta, twice as far.
   EXPECT_NEAR(without.along, travel(a0), Real(0.01) * travel(a0));
