@@ -47,9 +47,10 @@ void add_floor(BulletWorld& bw) {
 // draped over the feature, its hems on the floor. The floor matters: a
 // cloth hanging free over a ridge or point slides off (measured without
 // the floor, on a box standing free: within 1 s when these contacts had
-// no friction, and still with their friction at mu up to 1:
-// docs/bullet-bridge.md, section 6, item 2); with its hems on the floor,
-// friction holds it.
+// no friction; with their friction, this cloth, stiff in bending, still
+// tips off the ridge like a plate, while a bend-soft one stays:
+// test_world_triangle_friction, docs/bullet-bridge.md section 6 item 2);
+// with its hems on the floor, friction holds it.
 //
 // The feature meets the cloth between particles: the ridge runs midway
 // between two particle columns, the corner under the centroid of a
