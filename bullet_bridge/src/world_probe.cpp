@@ -4,9 +4,10 @@
 // Bullet's own contacts gave it in the previous step (XpbdWorld::Predicted).
 // In the first step it is coupled there is no previous step: a tray hanging
 // from compliant attachments with boxes stacked on it was solved as if it
-// carried nothing, rose 4 mm in XPBD's substeps, and the stack then rang on
-// the springs for as long as the run went (0.85 mm at 30 solver iterations;
-// docs/bullet-bridge.md, "The first step").
+// carried nothing (its springs, set for the whole stack, lift it at 3 g:
+// about 4 mm over the step, worked out), and the stack then rang on the
+// springs for as long as the run went (0.85 mm at 30 solver iterations;
+// docs/bullet-bridge.md section 2, "The first coupled step").
 //
 // The probe asks Bullet's own constraint solver once: collision detection at
 // the bodies' current poses, then one solve of every contact manifold with
