@@ -1,7 +1,8 @@
 // XpbdWorld's per-system work inside one internal step: the shadow bodies,
-// the contact search (broadphase, culling, narrowphase, rigid features
-// against soft triangles) and the XPBD step, with each dynamic body's change
-// summed for the hand-over (world.cpp).
+// the contact search (broadphase, culling, narrowphase; the rigid features
+// against soft triangles are in world_triangle_contacts.cpp) and the XPBD
+// step, with each dynamic body's change summed for the hand-over
+// (world.cpp).
 #include <LinearMath/btTransformUtil.h>
 
 #include <algorithm>
@@ -18,38 +19,6 @@
 #include "xpbd_bullet/narrowphase.hpp"
 
 namespace xpbd_bullet {
-namespace {
-
-// Sharp feature points of a shape in the frame `t` (body frame): box corners
-// and points along box edges no more than `spacing` apart, the vertices of
-// other polyhedral shapes (hulls), recursively for compounds. Smooth shapes
-// (sphere, capsule, cylinder, cone) and meshes have none.
-void collect_features(const btCollisionShape& shape, const btTransform& t, Real spacing,
-                      std::vector<Vec3>& out, bool edges = true) {
-  if (shape.isCompound()) {
-    const auto& c = static_cast<const btCompoundShape&>(shape);
-    for (int i = 0; i < c.getNumChildShapes(); ++i)
-      collect_features(*c.getChildShape(i), t * c.getChildTransform(i), spacing, out, edges);
-    return;
-  }
-  if (!shape.isPolyhedral()) return;
-  const auto& p = static_cast<const btPolyhedralConvexShape&>(shape);
-  for (int i = 0; i < p.getNumVertices(); ++i) {
-    btVector3 v;
-    p.getVertex(i, v);
-    out.push_back(to_vec(t * v));
-  }
-  if (!edges || shape.getShapeType() != BOX_SHAPE_PROXYTYPE) return;
-  for (int i = 0; i < p.getNumEdges(); ++i) {
-    btVector3 a, b;
-    p.getEdge(i, a, b);
-    const Vec3 pa = to_vec(t * a), pb = to_vec(t * b);
-    const int pieces = static_cast<int>(std::ceil((pb - pa).norm() / spacing));
-    for (int k = 1; k < pieces; ++k) out.push_back(pa + (Real(k) / Real(pieces)) * (pb - pa));
-  }
-}
-
-}  // namespace
 
 int XpbdWorld::shadow_for(const btCollisionObject* obj, btScalar dt) {
   for (std::size_t i = 0; i < shadows_.size(); ++i)
@@ -118,140 +87,6 @@ Index XpbdWorld::body_index(System& s, const btCollisionObject* obj, btScalar dt
   return static_cast<Index>(s.state.bodies.size() - 1);
 }
 
-// Triangles near a body's features as a whole, up to which each feature
-// tests them all rather than querying the hierarchy (bench_triangles).
-constexpr std::size_t kBodyTriangles = 256;
-
-void XpbdWorld::find_triangle_contacts(System& s, btScalar dt, const Vec3& lo, const Vec3& hi) {
-  const xpbd::Model& m = *s.model;
-  xpbd::State& st = s.state;
-  const ContactSettings& cs = s.settings.contacts;
-  const auto& tris = m.collision_triangles;
-  const bool use_bvh = tris.size() >= std::size_t(cs.triangle_bvh_from);
-  Real grow_max = 0;  // the largest of the triangles' growths below
-  bool bounds_ready = false;
-  for (const btCollisionObject* obj : candidates_) {
-    features_.clear();
-    collect_features(*obj->getCollisionShape(), btTransform::getIdentity(), cs.feature_spacing,
-                     features_);
-    if (features_.empty()) continue;
-    const int shi = shadow_for(obj, dt);
-    const Shadow& sh = shadows_[shi];
-    const btTransform start = sh.start;
-    const Vec3 vb = sh.v;
-    // Speed gained over the step from the body's forces (m/s, rad/s).
-    const Real ab = dt * sh.accel.norm();
-    const Real wb = sh.w.norm() + dt * sh.ang_accel.norm();
-    if (!bounds_ready) {
-      // Each triangle's bounds over the step, grown by the thickness and margin.
-      tri_lo_.resize(tris.size());
-      tri_hi_.resize(tris.size());
-      for (std::size_t t = 0; t < tris.size(); ++t) {
-        Vec3 a = Vec3::Constant(std::numeric_limits<Real>::max()), b = -a;
-        Real r = 0;
-        for (Index p : tris[t]) {
-          const Vec3 e = st.x[p] + dt * st.v[p];
-          a = a.cwiseMin(st.x[p]).cwiseMin(e);
-          b = b.cwiseMax(st.x[p]).cwiseMax(e);
-          r = std::max(r, m.radius[p]);
-        }
-        const Real grow = r + cs.thickness + cs.margin;
-        grow_max = std::max(grow_max, grow);
-        tri_lo_[t] = a.array() - grow;
-        tri_hi_[t] = b.array() + grow;
-      }
-      if (use_bvh) {
-        if (!s.tri_bvh) s.tri_bvh = std::make_unique<detail::TriangleBvh>();
-        s.tri_bvh->update(tris, st.x, st.v, dt);
-      }
-      bounds_ready = true;
-    }
-    Index body = -1;
-    // Feature at q0 (start of the step) that may travel `travel`, against
-    // triangle t: the exact tests, then the contact.
-    auto try_triangle = [&](const Vec3& local, const Vec3& q0, Real travel, std::size_t t) {
-      if ((q0.array() + travel < tri_lo_[t].array()).any() || (q0.array() - travel > tri_hi_[t].array()).any())
-        return;
-      const auto& tri = tris[t];
-      const Vec3 x1 = st.x[tri[0]], e1 = st.x[tri[1]] - x1, e2 = st.x[tri[2]] - x1;
-      const Vec3 nn = e1.cross(e2);
-      const Real a2 = nn.squaredNorm();
-      if (!(a2 > Real(0))) return;
-      // Barycentric coordinates of the feature's projection: it must lie
-      // over the triangle (with a margin of one feature spacing relative to
-      // the triangle size, so a corner over a shared edge hits both sides).
-      const Vec3 d = q0 - x1;
-      const Real u = d.cross(e2).dot(nn) / a2;  // weight of x2
-      const Real v = e1.cross(d).dot(nn) / a2;  // weight of x3
-      const Real tol = Real(0.05);
-      if (u < -tol || v < -tol || u + v > Real(1) + tol) return;
-      const Real dist = d.dot(nn) / std::sqrt(a2);
-      Real r = 0;
-      for (Index p : tri) r = std::max(r, m.radius[p]);
-      const Real thick = r + cs.thickness;
-      Real move = travel;
-      for (Index p : tri) move = std::max(move, dt * ((st.v[p] - vb).norm() + ab));
-      if (std::abs(dist) > thick + cs.margin + move) return;
-      if (body < 0) body = body_index(s, obj, dt);
-      xpbd::BodyTriangleContact c;
-      c.body = body;
-      c.r = local;
-      c.tri = tri;
-      c.side = dist >= Real(0) ? Real(1) : Real(-1);
-      c.thickness = thick;
-      // Combined with the body's friction by product, as particle contacts.
-      c.static_friction = cs.static_friction * obj->getFriction();
-      c.dynamic_friction = cs.dynamic_friction * obj->getFriction();
-      st.triangle_contacts.push_back(c);
-    };
-    // Every triangle whose grown box a feature's box can reach has a swept
-    // box within grow_max of the feature's; the small pad covers the
-    // rounding of the box arithmetic in float, so the hierarchy never drops
-    // a triangle the loop over all of them would test.
-    auto pad_of = [](const Vec3& q, Real reach) {
-      return Real(1e-5) * (q.cwiseAbs().maxCoeff() + reach) + std::numeric_limits<Real>::min();
-    };
-    // With the hierarchy, first the triangles near the body's features as a
-    // whole (one query); a feature then tests those, in ascending order as
-    // the loop does, or, when they are many (a body under much of the
-    // cloth), queries the hierarchy itself.
-    bool per_feature = false;
-    if (use_bvh) {
-      Vec3 flo = Vec3::Constant(std::numeric_limits<Real>::max()), fhi = -flo;
-      Real reach = 0;
-      for (const Vec3& local : features_) {
-        const Vec3 q0 = to_vec(start * to_bt(local));
-        flo = flo.cwiseMin(q0);
-        fhi = fhi.cwiseMax(q0);
-        reach = std::max(reach, dt * (vb.norm() + ab + wb * local.norm()));
-      }
-      reach += grow_max;
-      const Real pad = pad_of(flo.cwiseAbs().cwiseMax(fhi.cwiseAbs()), reach);
-      body_tris_.clear();
-      s.tri_bvh->query((flo.array() - (reach + pad)).matrix(), (fhi.array() + (reach + pad)).matrix(), body_tris_);
-      per_feature = body_tris_.size() > kBodyTriangles;
-    }
-    for (const Vec3& local : features_) {
-      // The feature at the start of the step and where it moves over the step.
-      const Vec3 q0 = to_vec(start * to_bt(local));
-      const Real travel = dt * (vb.norm() + ab + wb * local.norm());
-      if ((q0.array() + travel < lo.array()).any() || (q0.array() - travel > hi.array()).any())
-        continue;
-      if (!use_bvh) {
-        for (std::size_t t = 0; t < tris.size(); ++t) try_triangle(local, q0, travel, t);
-      } else if (!per_feature) {
-        for (const int t : body_tris_) try_triangle(local, q0, travel, std::size_t(t));
-      } else {
-        const Real reach = travel + grow_max, pad = pad_of(q0, reach);
-        tri_found_.clear();
-        s.tri_bvh->query((q0.array() - (reach + pad)).matrix(), (q0.array() + (reach + pad)).matrix(), tri_found_);
-        for (const int t : tri_found_) try_triangle(local, q0, travel, std::size_t(t));
-      }
-    }
-  }
-  stats_.triangle_contacts += static_cast<int>(st.triangle_contacts.size());
-}
-
 void XpbdWorld::add_world_contacts(System& s, btScalar dt) {
   xpbd::State& st = s.state;
   const ContactSettings& cs = s.settings.contacts;
@@ -265,7 +100,7 @@ void XpbdWorld::add_world_contacts(System& s, btScalar dt) {
     // lying on the ground has its four lower corners in contact, where
     // Bullet's manifold may hold only one to three points.
     features_.clear();
-    collect_features(*rb->getCollisionShape(), btTransform::getIdentity(), cs.feature_spacing, features_,
+    detail::collect_features(*rb->getCollisionShape(), btTransform::getIdentity(), cs.feature_spacing, features_,
                      false);
     const Real reach = cs.margin + dt * (sh.v.norm() + dt * sh.accel.norm());
     const Real turn = dt * (sh.w.norm() + dt * sh.ang_accel.norm());

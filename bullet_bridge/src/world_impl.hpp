@@ -71,6 +71,16 @@ namespace detail {
 void add_moving_candidates(btCollisionWorld& world, const Vec3& lo, const Vec3& hi, Real dt, int filter_group,
                            int filter_mask, std::vector<const btCollisionObject*>& out);
 
+// Appends the sharp feature points of a shape in the frame `t` (the body's
+// frame for t = identity): box corners and points along box edges no more
+// than `spacing` apart (if `edges`), the vertices of other polyhedral
+// shapes (hulls), recursively for compounds. Smooth shapes (sphere,
+// capsule, cylinder, cone) and meshes have none. centres (if given) gets,
+// for each feature, the centre of the convex shape it belongs to (the
+// frame's origin of a compound's child). world_triangle_contacts.cpp.
+void collect_features(const btCollisionShape& shape, const btTransform& t, Real spacing, std::vector<Vec3>& out,
+                      bool edges = true, std::vector<Vec3>* centres = nullptr);
+
 // A dynamic body about to be coupled without a prediction of Bullet's
 // contacts on it (its first coupled step): the probe fills accel and
 // ang_accel with what Bullet's contacts put on it when it is held fixed,

@@ -105,6 +105,15 @@ struct ContactSettings {
   // points along box edges at most this far apart (m, > 0), hull vertices.
   // Choose it below the soft mesh's edge length.
   xpbd::Real feature_spacing = xpbd::Real(0.01);
+  // Continuous collision of fast rigid features against the
+  // collision_triangles: a feature that can move farther than the
+  // thickness (at least 1 mm) in a step is swept along its path over the
+  // step (FCL's vertex-face test) and gets a contact with every triangle
+  // whose contact band it would enter, not only the one it starts over;
+  // and one found over a triangle less than the thickness from it, on the
+  // side away from its shape's centre, is pushed back to the centre's side
+  // (docs/collision-queries.md, "Fast features").
+  bool sweep_features = true;
   // From this many collision_triangles on (>= 0), the rigid features are
   // matched with the triangles through a bounding volume hierarchy of the
   // triangles' swept boxes (FCL, built once and refitted every step)
@@ -266,6 +275,9 @@ struct StepStats {
   // (broadphase, culling, narrowphase, triangle contacts), summed over systems.
   double contact_seconds = 0;
   int triangle_contacts = 0;  // rigid feature - soft triangle contacts created
+  // Of those, the ones only the path of a fast feature found (continuous
+  // collision: ContactSettings::thickness).
+  int swept_triangle_contacts = 0;
   int shadows = 0;     // shadow bodies
   int coupled = 0;     // dynamic bodies handed a change (velocity and residual)
   int late = 0;        // 1 if this step ran from updateAction because the pre-tick hook had been replaced

@@ -1,0 +1,252 @@
+// XpbdWorld's contacts between rigid features (box corners and edge
+// points, hull vertices) and a system's collision triangles: the
+// candidates from FCL's hierarchy of the triangles (triangle_bvh.hpp), the
+// exact tests, and the sweep of fast features (feature_sweep.hpp).
+#include <LinearMath/btTransformUtil.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "feature_sweep.hpp"
+#include "world_impl.hpp"
+
+namespace xpbd_bullet {
+
+namespace detail {
+
+// Declared in world_impl.hpp.
+void collect_features(const btCollisionShape& shape, const btTransform& t, Real spacing, std::vector<Vec3>& out,
+                      bool edges, std::vector<Vec3>* centres) {
+  if (shape.isCompound()) {
+    const auto& c = static_cast<const btCompoundShape&>(shape);
+    for (int i = 0; i < c.getNumChildShapes(); ++i)
+      collect_features(*c.getChildShape(i), t * c.getChildTransform(i), spacing, out, edges, centres);
+    return;
+  }
+  if (!shape.isPolyhedral()) return;
+  const auto& p = static_cast<const btPolyhedralConvexShape&>(shape);
+  for (int i = 0; i < p.getNumVertices(); ++i) {
+    btVector3 v;
+    p.getVertex(i, v);
+    out.push_back(to_vec(t * v));
+  }
+  if (edges && shape.getShapeType() == BOX_SHAPE_PROXYTYPE) {
+    for (int i = 0; i < p.getNumEdges(); ++i) {
+      btVector3 a, b;
+      p.getEdge(i, a, b);
+      const Vec3 pa = to_vec(t * a), pb = to_vec(t * b);
+      const int pieces = static_cast<int>(std::ceil((pb - pa).norm() / spacing));
+      for (int k = 1; k < pieces; ++k) out.push_back(pa + (Real(k) / Real(pieces)) * (pb - pa));
+    }
+  }
+  if (centres != nullptr) centres->resize(out.size(), to_vec(t.getOrigin()));
+}
+
+}  // namespace detail
+
+// Triangles near a body's features as a whole, up to which each feature
+// tests them all rather than querying the hierarchy (bench_triangles).
+constexpr std::size_t kBodyTriangles = 256;
+// At most this many pieces of a fast feature's path per step.
+constexpr int kSweepPieces = 16;
+
+void XpbdWorld::find_triangle_contacts(System& s, btScalar dt, const Vec3& lo, const Vec3& hi) {
+  const xpbd::Model& m = *s.model;
+  xpbd::State& st = s.state;
+  const ContactSettings& cs = s.settings.contacts;
+  const auto& tris = m.collision_triangles;
+  const bool use_bvh = tris.size() >= std::size_t(cs.triangle_bvh_from);
+  Real grow_max = 0;  // the largest of the triangles' growths below
+  bool bounds_ready = false;
+  std::vector<btTransform> path_tf;  // a fast body's poses along the step
+  std::array<Vec3, kSweepPieces + 1> path_at;  // a fast feature's path
+  Vec3 path_lo, path_hi;                       // and its box
+  std::vector<Vec3> centres;                   // each feature's shape centre (body frame)
+  for (const btCollisionObject* obj : candidates_) {
+    features_.clear();
+    centres.clear();
+    detail::collect_features(*obj->getCollisionShape(), btTransform::getIdentity(), cs.feature_spacing,
+                     features_, true, &centres);
+    if (features_.empty()) continue;
+    const int shi = shadow_for(obj, dt);
+    const Shadow& sh = shadows_[shi];
+    const btTransform start = sh.start;
+    const Vec3 vb = sh.v;
+    // Speed gained over the step from the body's forces (m/s, rad/s).
+    const Real ab = dt * sh.accel.norm();
+    const Real wb = sh.w.norm() + dt * sh.ang_accel.norm();
+    if (!bounds_ready) {
+      // Each triangle's bounds over the step, grown by the thickness and margin.
+      tri_lo_.resize(tris.size());
+      tri_hi_.resize(tris.size());
+      for (std::size_t t = 0; t < tris.size(); ++t) {
+        Vec3 a = Vec3::Constant(std::numeric_limits<Real>::max()), b = -a;
+        Real r = 0;
+        for (Index p : tris[t]) {
+          const Vec3 e = st.x[p] + dt * st.v[p];
+          a = a.cwiseMin(st.x[p]).cwiseMin(e);
+          b = b.cwiseMax(st.x[p]).cwiseMax(e);
+          r = std::max(r, m.radius[p]);
+        }
+        const Real grow = r + cs.thickness + cs.margin;
+        grow_max = std::max(grow_max, grow);
+        tri_lo_[t] = a.array() - grow;
+        tri_hi_[t] = b.array() + grow;
+      }
+      if (use_bvh) {
+        if (!s.tri_bvh) s.tri_bvh = std::make_unique<detail::TriangleBvh>();
+        s.tri_bvh->update(tris, st.x, st.v, dt);
+      }
+      bounds_ready = true;
+    }
+    Index body = -1;
+    // Continuous collision for features that move farther than the
+    // thickness in the step: each one's path over the step, as the body's
+    // screw motion cut into `pieces` of turn phi <= sqrt(thickness / (2 r))
+    // each, whose chords then stay within a sixteenth of the thickness of
+    // the arc (sagitta r phi^2 / 8).
+    const Real fast_from = std::max(cs.thickness, Real(1e-3));
+    Real r_max = 0;
+    for (const Vec3& local : features_) r_max = std::max(r_max, local.norm());
+    const int pieces = std::clamp(
+        static_cast<int>(std::ceil(dt * wb * std::sqrt(r_max / (Real(0.5) * fast_from)))), 1, kSweepPieces);
+    path_tf.clear();
+    if (dt * (vb.norm() + ab + wb * r_max) > fast_from && cs.sweep_features) {
+      const btVector3 v_mean = to_bt(vb + Real(0.5) * dt * sh.accel), w_mean = to_bt(sh.w + Real(0.5) * dt * sh.ang_accel);
+      for (int k = 0; k <= pieces; ++k) {
+        btTransform at;
+        btTransformUtil::integrateTransform(start, v_mean, w_mean, dt * btScalar(k) / btScalar(pieces), at);
+        path_tf.push_back(at);
+      }
+    }
+    // Feature at q0 (start of the step) that may travel `travel`, against
+    // triangle t: the exact tests, then the contact. path: the feature's
+    // path (pieces + 1 points) when it is fast, else null.
+    auto try_triangle = [&](const Vec3& local, const Vec3& q0, Real travel, std::size_t t, const Vec3* path,
+                            const Vec3& centre) {
+      if ((q0.array() + travel < tri_lo_[t].array()).any() || (q0.array() - travel > tri_hi_[t].array()).any())
+        return;
+      const auto& tri = tris[t];
+      const Vec3 x1 = st.x[tri[0]], e1 = st.x[tri[1]] - x1, e2 = st.x[tri[2]] - x1;
+      const Vec3 nn = e1.cross(e2);
+      const Real a2 = nn.squaredNorm();
+      if (!(a2 > Real(0))) return;
+      // Barycentric coordinates of the feature's projection: it must lie
+      // over the triangle (with a margin of one feature spacing relative to
+      // the triangle size, so a corner over a shared edge hits both sides).
+      const Vec3 d = q0 - x1;
+      const Real u = d.cross(e2).dot(nn) / a2;  // weight of x2
+      const Real v = e1.cross(d).dot(nn) / a2;  // weight of x3
+      const Real tol = Real(0.05);
+      const bool over = !(u < -tol || v < -tol || u + v > Real(1) + tol);
+      if (!over && path == nullptr) return;
+      const Real dist = d.dot(nn) / std::sqrt(a2);
+      Real r = 0;
+      for (Index p : tri) r = std::max(r, m.radius[p]);
+      const Real thick = r + cs.thickness;
+      Real move = travel;
+      for (Index p : tri) move = std::max(move, dt * ((st.v[p] - vb).norm() + ab));
+      Real side = dist >= Real(0) ? Real(1) : Real(-1);
+      if (over && path != nullptr && std::abs(dist) <= thick) {
+        // A fast feature found over the triangle, near it: it belongs on the
+        // side of its shape's centre. On the other side it has gone through
+        // (a thin blade's edge through a cloth it sweeps under), and the
+        // contact pushes the triangle back over it, not on through.
+        side = (centre - x1).dot(nn) >= Real(0) ? Real(1) : Real(-1);
+      }
+      if (!over || std::abs(dist) > thick + cs.margin + move) {
+        // Not over the triangle at the start, or not near it: a fast
+        // feature still gets the contact if its path enters the band over
+        // the triangle during the step.
+        if (path == nullptr) return;
+        // The path's box (its pieces' chords lie in it, padded by the
+        // chords' distance from the arc) against the triangle's grown
+        // swept box first: most candidates end there.
+        const Real pad = Real(0.25) * fast_from;
+        if ((path_lo.array() - pad > tri_hi_[t].array()).any() || (path_hi.array() + pad < tri_lo_[t].array()).any())
+          return;
+        const std::array<Vec3, 3> from{st.x[tri[0]], st.x[tri[1]], st.x[tri[2]]};
+        const std::array<Vec3, 3> to{from[0] + dt * st.v[tri[0]], from[1] + dt * st.v[tri[1]],
+                                     from[2] + dt * st.v[tri[2]]};
+        if (!detail::sweep_reaches_triangle(path, pieces + 1, from, to, dist >= Real(0) ? Real(1) : Real(-1), dist,
+                                            thick + cs.margin))
+          return;
+        ++stats_.swept_triangle_contacts;
+      }
+      if (body < 0) body = body_index(s, obj, dt);
+      xpbd::BodyTriangleContact c;
+      c.body = body;
+      c.r = local;
+      c.tri = tri;
+      c.side = side;
+      c.thickness = thick;
+      // Combined with the body's friction by product, as particle contacts.
+      c.static_friction = cs.static_friction * obj->getFriction();
+      c.dynamic_friction = cs.dynamic_friction * obj->getFriction();
+      st.triangle_contacts.push_back(c);
+    };
+    // Every triangle whose grown box a feature's box can reach has a swept
+    // box within grow_max of the feature's; the small pad covers the
+    // rounding of the box arithmetic in float, so the hierarchy never drops
+    // a triangle the loop over all of them would test.
+    auto pad_of = [](const Vec3& q, Real reach) {
+      return Real(1e-5) * (q.cwiseAbs().maxCoeff() + reach) + std::numeric_limits<Real>::min();
+    };
+    // With the hierarchy, first the triangles near the body's features as a
+    // whole (one query); a feature then tests those, in ascending order as
+    // the loop does, or, when they are many (a body under much of the
+    // cloth), queries the hierarchy itself.
+    bool per_feature = false;
+    if (use_bvh) {
+      Vec3 flo = Vec3::Constant(std::numeric_limits<Real>::max()), fhi = -flo;
+      Real reach = 0;
+      for (const Vec3& local : features_) {
+        const Vec3 q0 = to_vec(start * to_bt(local));
+        flo = flo.cwiseMin(q0);
+        fhi = fhi.cwiseMax(q0);
+        reach = std::max(reach, dt * (vb.norm() + ab + wb * local.norm()));
+      }
+      reach += grow_max;
+      const Real pad = pad_of(flo.cwiseAbs().cwiseMax(fhi.cwiseAbs()), reach);
+      body_tris_.clear();
+      s.tri_bvh->query((flo.array() - (reach + pad)).matrix(), (fhi.array() + (reach + pad)).matrix(), body_tris_);
+      per_feature = body_tris_.size() > kBodyTriangles;
+    }
+    for (const Vec3& local : features_) {
+      // The feature at the start of the step and where it moves over the step.
+      const Vec3 q0 = to_vec(start * to_bt(local));
+      const Real travel = dt * (vb.norm() + ab + wb * local.norm());
+      if ((q0.array() + travel < lo.array()).any() || (q0.array() - travel > hi.array()).any())
+        continue;
+      const Vec3* path = nullptr;
+      const Vec3 centre = to_vec(start * to_bt(centres[std::size_t(&local - features_.data())]));
+      if (!path_tf.empty() && travel > fast_from) {
+        path_lo = Vec3::Constant(std::numeric_limits<Real>::max());
+        path_hi = -path_lo;
+        for (int k = 0; k <= pieces; ++k) {
+          const Vec3 q = to_vec(path_tf[std::size_t(k)] * to_bt(local));
+          path_at[std::size_t(k)] = q;
+          path_lo = path_lo.cwiseMin(q);
+          path_hi = path_hi.cwiseMax(q);
+        }
+        path = path_at.data();
+      }
+      if (!use_bvh) {
+        for (std::size_t t = 0; t < tris.size(); ++t) try_triangle(local, q0, travel, t, path, centre);
+      } else if (!per_feature) {
+        for (const int t : body_tris_) try_triangle(local, q0, travel, std::size_t(t), path, centre);
+      } else {
+        const Real reach = travel + grow_max, pad = pad_of(q0, reach);
+        tri_found_.clear();
+        s.tri_bvh->query((q0.array() - (reach + pad)).matrix(), (q0.array() + (reach + pad)).matrix(), tri_found_);
+        for (const int t : tri_found_) try_triangle(local, q0, travel, std::size_t(t), path, centre);
+      }
+    }
+  }
+  stats_.triangle_contacts += static_cast<int>(st.triangle_contacts.size());
+}
+
+}  // namespace xpbd_bullet

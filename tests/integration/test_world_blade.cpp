@@ -1,0 +1,147 @@
+// A thin fast blade under a cloth (issue 16, continuous collision; the
+// built-in scene spinning_blade has the same parameters): an 8 x 8 cloth
+// of 1 m and 0.2 kg (every edge 1e-6 m/N, collision triangles on) falls
+// from 0.1 m above onto a kinematic box blade 0.4 m long, 6 cm tall and
+// 1 cm thick that spins about the vertical at 20 rad/s. Its top edge
+// sweeps up to 6.7 cm per 60 Hz step between particles 14 cm apart; the
+// default budget (10 substeps x 1 iteration), contact thickness 5 mm,
+// friction 0.8 (x the blade's 0.5), 4 s.
+//
+// Asserted over every frame, with ContactSettings::sweep_features on (the
+// default):
+//  - no particle centre deeper inside the blade than the thickness;
+//  - no cloth edge stretched beyond 50 %;
+//  - the cloth stays on its side: a triangle that crosses the blade's
+//    middle (the box shrunk by the thickness on every side, here the
+//    plane rectangle through its middle) means the blade has cut into the
+//    cloth deeper than the thickness. Checked with the separating axis
+//    test of a triangle against a box (13 axes), written here, not the
+//    library's. At most 2 of the 240 frames may have one.
+// And, to show what the sweep does, the same run without it: the blade
+// cuts into the cloth in at least 20 frames. Measured when this was
+// written, swept / not swept: 0 / 55 frames, largest strain 0.16 / 0.56
+// (double); 0 / 48 frames, 0.07 / 0.35 (float).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+
+#include <LinearMath/btTransformUtil.h>
+
+#include "support.hpp"
+#include "xpbd_bullet/narrowphase.hpp"
+
+namespace {
+
+using namespace xpbd_bullet::test;
+using xpbd_bullet::SystemSettings;
+using xpbd_bullet::XpbdWorld;
+
+constexpr Real kThick = Real(0.005);
+const Vec3 kHalf(Real(0.2), Real(0.03), Real(0.005));  // the blade's half extents (m)
+constexpr Real kSpin = 20;                              // rad/s about +y
+constexpr int kFrames = 240;
+
+// Separating axis test of triangle (a, b, c) against the box of half
+// extents h centred at the origin (all in the box's frame). Touching
+// counts as overlapping.
+bool triangle_overlaps_box(const std::array<Vec3, 3>& t, const Vec3& h) {
+  const std::array<Vec3, 3> e{t[1] - t[0], t[2] - t[1], t[0] - t[2]};
+  std::array<Vec3, 13> axes;
+  int n = 0;
+  for (int i = 0; i < 3; ++i) axes[n++] = Vec3::Unit(i);
+  axes[n++] = e[0].cross(e[1]);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) axes[n++] = Vec3::Unit(i).cross(e[j]);
+  for (const Vec3& a : axes) {
+    if (a.squaredNorm() < Real(1e-20)) continue;
+    const Real p0 = a.dot(t[0]), p1 = a.dot(t[1]), p2 = a.dot(t[2]);
+    const Real r = h.dot(a.cwiseAbs());
+    if (std::min({p0, p1, p2}) > r || std::max({p0, p1, p2}) < -r) return false;
+  }
+  return true;
+}
+
+struct BladeRun {
+  int frames_cut = 0;      // frames with a triangle across the blade's middle
+  Real max_strain = 0;     // over every distance edge and frame
+  Real deepest = 0;        // m, deepest particle centre inside the blade
+  bool finite = true;
+};
+
+BladeRun run(bool sweep) {
+  BulletWorld bw;
+  bw.add_body(new btStaticPlaneShape(btVector3(0, 1, 0), 0), 0, btTransform::getIdentity(), Vec3::Zero(),
+              Real(0.5));
+  btTransform pose = BulletWorld::at(Vec3(0, Real(0.5), 0));
+  btRigidBody* blade = bw.add_body(new btBoxShape(bt(kHalf)), 0, pose, Vec3::Zero(), Real(0.5));
+  blade->setCollisionFlags(blade->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
+  blade->setActivationState(DISABLE_DEACTIVATION);
+
+  XpbdWorld xw(bw.world());
+  xpbd::SceneDesc scene;
+  xpbd::ClothGridDesc d;
+  d.nx = d.ny = 8;
+  d.size_u = d.size_v = 1;
+  d.u = Vec3::UnitX();
+  d.v = Vec3::UnitZ();
+  d.origin = Vec3(Real(-0.5), Real(0.6), Real(-0.5));
+  d.mass = Real(0.2);
+  d.stretch = d.shear_mat = d.bend_mat = xpbd::Material{Real(1e-6), 0, 1};
+  d.collision_triangles = true;
+  const xpbd::ClothGrid g = xpbd::add_cloth_grid(scene, d);
+  System cloth = make_system(scene);
+  SystemSettings set;  // the default budget: 10 substeps x 1 iteration
+  set.contacts.thickness = kThick;
+  set.contacts.static_friction = set.contacts.dynamic_friction = Real(0.8);
+  set.contacts.sweep_features = sweep;
+  const auto id = xw.add_system(cloth.model, cloth.state, set);
+
+  BladeRun r;
+  const Vec3 middle = (kHalf.array() - kThick).max(Real(0)).matrix();
+  for (int k = 0; k < kFrames; ++k) {
+    // Bullet moves a kinematic body to its motion state's pose and gives
+    // it the velocity of that move.
+    btTransform next;
+    btTransformUtil::integrateTransform(pose, btVector3(0, 0, 0), btVector3(0, kSpin, 0), kDt, next);
+    pose = next;
+    blade->getMotionState()->setWorldTransform(pose);
+    bw.step();
+    const xpbd::State& st = xw.state(id);
+    const btTransform& bp = blade->getWorldTransform();
+    const btTransform to_blade = bp.inverse();
+    for (const Vec3& x : st.x) r.finite = r.finite && x.allFinite();
+    for (const auto& e : cloth.model->get<xpbd::Distance>()) {
+      const Real len = (st.x[e.p[1]] - st.x[e.p[0]]).norm();
+      r.max_strain = std::max(r.max_strain, std::abs(len / e.rest - 1));
+    }
+    for (const Vec3& x : st.x) {
+      xpbd_bullet::ParticleContact pc;
+      if (xpbd_bullet::query_point(*blade, x, 0, pc)) r.deepest = std::max(r.deepest, -pc.distance);
+    }
+    bool cut = false;
+    for (const auto& tri : g.triangles) {
+      std::array<Vec3, 3> t;
+      for (int i = 0; i < 3; ++i) t[i] = vec(to_blade * bt(st.x[tri[i]]));
+      cut = cut || triangle_overlaps_box(t, middle);
+    }
+    r.frames_cut += cut;
+  }
+  return r;
+}
+
+TEST(WorldBlade, ThinFastBladeStaysOnItsSideOfTheCloth) {
+  const BladeRun on = run(true), off = run(false);
+  for (const auto& [name, r] : {std::pair{"swept", on}, std::pair{"not swept", off}})
+    std::printf("%s: %d of %d frames with the blade across a triangle, largest strain %.3f, deepest particle %.3g m\n",
+                name, r.frames_cut, kFrames, double(r.max_strain), double(r.deepest));
+  ASSERT_TRUE(on.finite);
+  EXPECT_LE(on.deepest, kThick);
+  EXPECT_LE(on.max_strain, Real(0.5));
+  EXPECT_LE(on.frames_cut, 2);
+  EXPECT_GE(off.frames_cut, 20);
+}
+
+}  // namespace
