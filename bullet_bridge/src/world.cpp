@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "world_impl.hpp"
+#include "world_marker.hpp"
 #include "xpbd/error.hpp"
 
 namespace xpbd_bullet {
@@ -193,22 +194,39 @@ XpbdWorld::XpbdWorld(btDiscreteDynamicsWorld& world) : world_(world) {
   {
     Registry& r = registry();
     std::lock_guard lock(r.mutex);
+    // An entry whose world has been destroyed (its XpbdWorld not yet) may
+    // name a new world at the same address: it is stale.
+    std::erase_if(r.entries, [&](const auto& e) { return e.first == &world && e.second->world_gone(); });
     for (const auto& e : r.entries)
       if (e.first == &world)
         throw xpbd::ConfigError("XpbdWorld: this Bullet world already has an XpbdWorld (one per world; "
                                 "add several systems to it instead)");
     r.entries.emplace_back(&world, this);
   }
+  marker_ = new detail::WorldMarker(this);
+  world_.addCollisionObject(marker_, 0, 0);
   install_hook();
   world_.addAction(this);
 }
 
 XpbdWorld::~XpbdWorld() {
-  release_spacers();
-  world_.removeAction(this);
-  // Give the slot back to the callback we chained, unless someone installed
-  // theirs after ours (then it is theirs to keep).
-  if (hook_installed()) world_.setInternalTickCallback(chained_, world_.getWorldUserInfo(), true);
+  if (world_gone()) {
+    // The Bullet world was destroyed first: nothing of it may be touched
+    // (its dispatcher released the spacers' manifolds with it or not; they
+    // are its to free).
+    spacers_.clear();
+  } else {
+    release_spacers();
+    world_.removeAction(this);
+    // Give the slot back to the callback we chained, unless someone
+    // installed theirs after ours (then it is theirs to keep).
+    if (hook_installed()) world_.setInternalTickCallback(chained_, world_.getWorldUserInfo(), true);
+    if (marker_ != nullptr && marker_->in_world()) world_.removeCollisionObject(marker_);
+  }
+  if (marker_ != nullptr) {
+    marker_->owner = nullptr;
+    delete marker_;
+  }
   Registry& r = registry();
   std::lock_guard lock(r.mutex);
   std::erase_if(r.entries, [&](const auto& e) { return e.second == this; });

@@ -87,6 +87,10 @@
 
 namespace xpbd_bullet {
 
+namespace detail {
+class WorldMarker;
+}  // namespace detail
+
 // Contact settings of one particle system.
 struct ContactSettings {
   bool enabled = true;
@@ -384,8 +388,19 @@ class XpbdWorld : public btActionInterface {
   using StepCallback = std::function<void(SystemId id, btScalar dt)>;
 
   // Installs the pre-tick hook (chained) and adds itself to `world` as an
-  // action; both are removed in the destructor. The world must outlive this
-  // object. Throws xpbd::ConfigError if `world` already has an XpbdWorld.
+  // action; both are removed in the destructor. Throws xpbd::ConfigError if
+  // `world` already has an XpbdWorld.
+  //
+  // It also adds a marker to the world: a btCollisionObject with an empty
+  // shape and collision filter group and mask 0 (no pair, ray or contact
+  // test ever sees it; it is counted by getNumCollisionObjects). Bullet's
+  // world destructor clears the broadphase handle of every object still in
+  // it, which tells this object that the world is gone: destroying the
+  // Bullet world first is then safe, and this object's destructor touches
+  // nothing of it (only the destructor may be called after that). A cleanup
+  // loop that removes the marker from the world is safe too; one that also
+  // deletes it (as it deletes every collision object) leaves this object
+  // unable to tell, so then destroy this object before the world.
   explicit XpbdWorld(btDiscreteDynamicsWorld& world);
   ~XpbdWorld() override;
   XpbdWorld(const XpbdWorld&) = delete;
@@ -501,6 +516,7 @@ class XpbdWorld : public btActionInterface {
   void debugDraw(btIDebugDraw* drawer) override;
 
  private:
+  friend class detail::WorldMarker;
   struct System;
   struct Attachment;
   struct Shadow;
@@ -560,7 +576,12 @@ class XpbdWorld : public btActionInterface {
   // Whether particle i of s is attached to obj.
   bool attached(const System& s, const btCollisionObject* obj, xpbd::Index i) const;
 
+  // True once the Bullet world has been destroyed (world_marker.cpp).
+  bool world_gone() const;
   btDiscreteDynamicsWorld& world_;
+  // The marker in the world (the constructor's comment); null once the
+  // application has deleted it.
+  detail::WorldMarker* marker_ = nullptr;
   std::vector<std::unique_ptr<System>> systems_;
   std::vector<Attachment> attachments_;
   int next_id_ = 0;
