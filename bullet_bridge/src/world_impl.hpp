@@ -81,6 +81,15 @@ void add_moving_candidates(btCollisionWorld& world, const Vec3& lo, const Vec3& 
 void collect_features(const btCollisionShape& shape, const btTransform& t, Real spacing, std::vector<Vec3>& out,
                       bool edges = true, std::vector<Vec3>* centres = nullptr);
 
+// Appends the features of a triangle mesh (its own frame) among its
+// triangles that overlap the box lo..hi (the same frame): each corner of a
+// sharp edge once, and points along the edge no more than `spacing` apart.
+// An edge is sharp where its two triangles are more than about a degree
+// from flat (ridge or valley), or where it has one triangle or more than
+// two. tris: scratch. world_triangle_contacts.cpp.
+void collect_mesh_features(const btConcaveShape& shape, const Vec3& lo, const Vec3& hi, Real spacing,
+                           std::vector<std::array<Vec3, 3>>& tris, std::vector<Vec3>& out);
+
 // A dynamic body about to be coupled without a prediction of Bullet's
 // contacts on it (its first coupled step): the probe fills accel and
 // ang_accel with what Bullet's contacts put on it when it is held fixed,

@@ -1,5 +1,6 @@
 // XpbdWorld's contacts between rigid features (box corners and edge
-// points, hull vertices) and a system's collision triangles: the
+// points, hull vertices, the sharp edges and corners of static triangle
+// meshes) and a system's collision triangles: the
 // candidates from FCL's hierarchy of the triangles (triangle_bvh.hpp), the
 // exact tests, and the sweep of fast features (feature_sweep.hpp).
 #include <LinearMath/btTransformUtil.h>
@@ -15,7 +16,98 @@
 
 namespace xpbd_bullet {
 
+namespace {
+
+// Two faces closer to flat than about a degree meet at no feature.
+constexpr Real kFlatCos = Real(0.99985);
+
+// The triangles of a concave shape that overlap a box (its own frame).
+struct TriangleGrab : btTriangleCallback {
+  std::vector<std::array<Vec3, 3>>* out;
+  void processTriangle(btVector3* t, int, int) override {
+    out->push_back({to_vec(t[0]), to_vec(t[1]), to_vec(t[2])});
+  }
+};
+
+// Shapes made of triangles (BVH meshes, scaled or multi-material, and
+// heightfields), as narrowphase.cpp answers them.
+bool is_triangle_mesh(const btCollisionShape& shape) {
+  switch (shape.getShapeType()) {
+    case TRIANGLE_MESH_SHAPE_PROXYTYPE:
+    case SCALED_TRIANGLE_MESH_SHAPE_PROXYTYPE:
+    case MULTIMATERIAL_TRIANGLE_MESH_PROXYTYPE:
+    case TERRAIN_SHAPE_PROXYTYPE: return true;
+    default: return false;
+  }
+}
+
+bool less_vec(const Vec3& a, const Vec3& b) {
+  return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+}
+
+}  // namespace
+
 namespace detail {
+
+// Declared in world_impl.hpp.
+void collect_mesh_features(const btConcaveShape& shape, const Vec3& lo, const Vec3& hi, Real spacing,
+                           std::vector<std::array<Vec3, 3>>& tris, std::vector<Vec3>& out) {
+  tris.clear();
+  TriangleGrab grab;
+  grab.out = &tris;
+  shape.processAllTriangles(&grab, to_bt(lo), to_bt(hi));
+  // Every edge of every triangle, as (lower end, upper end) in
+  // lexicographic order, with the triangle it came from: sorted, the
+  // triangles sharing an edge are neighbours.
+  struct Edge {
+    Vec3 a, b;
+    std::size_t tri;
+  };
+  std::vector<Edge> edges;
+  edges.reserve(3 * tris.size());
+  for (std::size_t t = 0; t < tris.size(); ++t)
+    for (int i = 0; i < 3; ++i) {
+      Vec3 a = tris[t][i], b = tris[t][(i + 1) % 3];
+      if (less_vec(b, a)) std::swap(a, b);
+      edges.push_back({a, b, t});
+    }
+  std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) {
+    if (x.a != y.a) return less_vec(x.a, y.a);
+    if (x.b != y.b) return less_vec(x.b, y.b);
+    return x.tri < y.tri;
+  });
+  const std::size_t first = out.size();
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i + 1;
+    while (j < edges.size() && edges[j].a == edges[i].a && edges[j].b == edges[i].b) ++j;
+    // Sharp: an open edge (one triangle, or more than two), or two
+    // triangles more than about a degree from flat, ridge or valley (which
+    // is which depends on the winding, which meshes do not agree on; a
+    // valley under a cloth costs a few contacts and is right anyway).
+    // Flat edges (a face's diagonal) are no features.
+    bool sharp = j - i != 2;
+    if (j - i == 2) {
+      const auto& t1 = tris[edges[i].tri];
+      const auto& t2 = tris[edges[i + 1].tri];
+      const Vec3 n1 = (t1[1] - t1[0]).cross(t1[2] - t1[0]);
+      const Vec3 n2 = (t2[1] - t2[0]).cross(t2[2] - t2[0]);
+      const Real nn = std::sqrt(n1.squaredNorm() * n2.squaredNorm());
+      sharp = !(nn > Real(0)) || std::abs(n1.dot(n2)) < kFlatCos * nn;
+    }
+    if (sharp) {
+      const Vec3 a = edges[i].a, b = edges[i].b;
+      out.push_back(a);
+      out.push_back(b);
+      const int pieces = static_cast<int>(std::ceil((b - a).norm() / spacing));
+      for (int k = 1; k < pieces; ++k) out.push_back(a + (Real(k) / Real(pieces)) * (b - a));
+    }
+    i = j;
+  }
+  // Each corner once (edges share them).
+  std::sort(out.begin() + std::ptrdiff_t(first), out.end(), less_vec);
+  out.erase(std::unique(out.begin() + std::ptrdiff_t(first), out.end()), out.end());
+}
+
 
 // Declared in world_impl.hpp.
 void collect_features(const btCollisionShape& shape, const btTransform& t, Real spacing, std::vector<Vec3>& out,
@@ -65,11 +157,27 @@ void XpbdWorld::find_triangle_contacts(System& s, btScalar dt, const Vec3& lo, c
   std::array<Vec3, kSweepPieces + 1> path_at;  // a fast feature's path
   Vec3 path_lo, path_hi;                       // and its box
   std::vector<Vec3> centres;                   // each feature's shape centre (body frame)
+  std::vector<std::array<Vec3, 3>> mesh_tris;  // a mesh's triangles near the system
   for (const btCollisionObject* obj : candidates_) {
     features_.clear();
     centres.clear();
-    detail::collect_features(*obj->getCollisionShape(), btTransform::getIdentity(), cs.feature_spacing,
-                     features_, true, &centres);
+    const btCollisionShape& shape = *obj->getCollisionShape();
+    detail::collect_features(shape, btTransform::getIdentity(), cs.feature_spacing, features_, true, &centres);
+    if (features_.empty() && obj->isStaticObject() && is_triangle_mesh(shape)) {
+      // A static triangle mesh: the sharp edges and corners of its
+      // triangles within the system's box (in the mesh's frame).
+      const btTransform inv = obj->getWorldTransform().inverse();
+      Vec3 llo = Vec3::Constant(std::numeric_limits<Real>::max()), lhi = -llo;
+      for (int c = 0; c < 8; ++c) {
+        const Vec3 corner((c & 1) ? hi.x() : lo.x(), (c & 2) ? hi.y() : lo.y(), (c & 4) ? hi.z() : lo.z());
+        const Vec3 q = to_vec(inv * to_bt(corner));
+        llo = llo.cwiseMin(q);
+        lhi = lhi.cwiseMax(q);
+      }
+      detail::collect_mesh_features(static_cast<const btConcaveShape&>(shape), llo, lhi, cs.feature_spacing,
+                                    mesh_tris, features_);
+      centres.assign(features_.size(), Vec3::Zero());
+    }
     if (features_.empty()) continue;
     const int shi = shadow_for(obj, dt);
     const Shadow& sh = shadows_[shi];

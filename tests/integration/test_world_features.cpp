@@ -1,7 +1,8 @@
 // Integration tests of three XpbdWorld features in a real Bullet world:
-//   1. rigid features (a box's top edge, a box's top corner) against a
-//      coarse cloth's triangles: the seed's penetration constraint between a
-//      rigid point and a soft triangle (SceneDesc::collision_triangles);
+//   1. rigid features (a box's top edge, a box's top corner, the same box
+//      as a static triangle mesh) against a coarse cloth's triangles: the
+//      seed's penetration constraint between a rigid point and a soft
+//      triangle (SceneDesc::collision_triangles);
 //   2. two cloths of one particle system falling onto each other with
 //      particle-particle collision (SceneDesc::self_collision) on;
 //   3. restitution of a particle bouncing on a static body, the soft
@@ -114,7 +115,27 @@ bool distance_to_cloth(const xpbd::State& s, const std::vector<xpbd::Triangle>& 
   return found;
 }
 
-DrapeRun drape(Feature f, bool triangles, Real seconds) {
+// The box of half extents h as a triangle mesh: its six faces, two
+// triangles each, counter-clockwise seen from outside.
+std::unique_ptr<btTriangleMesh> box_mesh(const Vec3& h) {
+  auto mesh = std::make_unique<btTriangleMesh>();
+  auto corner = [&](int i) {
+    return btVector3((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z());
+  };
+  // Each face as its four corners in order around it, seen from outside.
+  const int faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  for (const auto& f : faces) {
+    mesh->addTriangle(corner(f[0]), corner(f[1]), corner(f[2]));
+    mesh->addTriangle(corner(f[0]), corner(f[2]), corner(f[3]));
+  }
+  return mesh;
+}
+
+// mesh: the box is a static btBvhTriangleMeshShape of its 12 triangles
+// (its sharp edges and corners are the features: collect_mesh_features),
+// not a btBoxShape.
+DrapeRun drape(Feature f, bool triangles, Real seconds, bool mesh = false) {
+  std::unique_ptr<btTriangleMesh> box_triangles;  // outlives bw, whose shape uses it
   BulletWorld bw;
   add_floor(bw);
   btQuaternion rot;
@@ -132,10 +153,13 @@ DrapeRun drape(Feature f, bool triangles, Real seconds) {
   }
   const Vec3 centre(0, kRise - top, 0);
   const btTransform pose(rot, bt(centre));
-  if (f == Feature::edge)
-    bw.add_static_box(Vec3(kBoxHalf, kBoxHalf, kEdgeHalfLen), pose);
-  else
-    bw.add_static_box(Vec3::Constant(kBoxHalf), pose);
+  const Vec3 half = f == Feature::edge ? Vec3(kBoxHalf, kBoxHalf, kEdgeHalfLen) : Vec3::Constant(kBoxHalf);
+  if (mesh) {
+    box_triangles = box_mesh(half);
+    bw.add_body(new btBvhTriangleMeshShape(box_triangles.get(), true), 0, pose);
+  } else {
+    bw.add_static_box(half, pose);
+  }
 
   // The top feature in world coordinates: the corner, or points 5 mm apart
   // along the ridge over z in [-0.4, 0.4] m (the cloth spans +-0.45 m; half
@@ -200,14 +224,17 @@ DrapeRun drape(Feature f, bool triangles, Real seconds) {
   return r;
 }
 
-class ClothOnFeature : public ::testing::TestWithParam<Feature> {};
+// The box as a btBoxShape, or as a static triangle mesh of its 12
+// triangles: the same features, the same assertions.
+class ClothOnFeature : public ::testing::TestWithParam<std::tuple<Feature, bool>> {};
 
 TEST_P(ClothOnFeature, TriangleContactsKeepTheFeatureUnderTheCloth) {
-  const Feature f = GetParam();
-  const char* name = f == Feature::edge ? "edge" : "corner";
+  const auto [f, mesh] = GetParam();
+  const std::string label = std::string(f == Feature::edge ? "edge" : "corner") + (mesh ? " (mesh)" : "");
+  const char* name = label.c_str();
   const Real seconds = 3;  // lands at ~0.1 s, at rest by ~1 s
-  const DrapeRun on = drape(f, true, seconds);
-  const DrapeRun off = drape(f, false, seconds);
+  const DrapeRun on = drape(f, true, seconds, mesh);
+  const DrapeRun off = drape(f, false, seconds, mesh);
   std::printf("%s, triangles on:  max d %.4g m (thickness %.3g m), at the end d in "
               "[%.4g, %.4g] m, lowest particle %.4g m, up to %d feature-triangle contacts\n",
               name, on.max_d, kThick, on.end_min_d, on.end_max_d, on.lowest,
@@ -246,9 +273,11 @@ TEST_P(ClothOnFeature, TriangleContactsKeepTheFeatureUnderTheCloth) {
 }
 
 INSTANTIATE_TEST_SUITE_P(EdgeAndCorner, ClothOnFeature,
-                         ::testing::Values(Feature::edge, Feature::corner),
+                         ::testing::Combine(::testing::Values(Feature::edge, Feature::corner),
+                                            ::testing::Bool()),
                          [](const auto& info) {
-                           return std::string(info.param == Feature::edge ? "Edge" : "Corner");
+                           return std::string(std::get<0>(info.param) == Feature::edge ? "Edge" : "Corner") +
+                                  (std::get<1>(info.param) ? "OfMesh" : "");
                          });
 
 // ---------------------------------------------------------------------------

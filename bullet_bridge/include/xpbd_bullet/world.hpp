@@ -106,7 +106,10 @@ struct ContactSettings {
   xpbd::Real restitution = 0;
   xpbd::Real compliance = 0;  // m/N
   // Rigid features against the model's collision_triangles: box corners and
-  // points along box edges at most this far apart (m, > 0), hull vertices.
+  // points along box edges at most this far apart (m, > 0), hull vertices,
+  // and on static triangle meshes (and heightfields) the corners of their
+  // sharp edges (faces more than about a degree from flat) and points along
+  // those edges, this far apart, among the triangles near the system.
   // Choose it below the soft mesh's edge length.
   xpbd::Real feature_spacing = xpbd::Real(0.01);
   // Continuous collision of fast rigid features against the
