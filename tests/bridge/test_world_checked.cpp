@@ -19,21 +19,6 @@ namespace {
 using namespace xpbd_bullet::test;
 using xpbd_bullet::XpbdWorld;
 
-// A 4-particle rope hanging from a fixed point, with contacts on (a ground
-// plane far below): stepped, its free end falls.
-System rope() {
-  xpbd::SceneDesc scene;
-  xpbd::RopeDesc r;
-  r.n = 4;
-  r.start = Vec3(0, 2, 0);
-  r.dir = Vec3(1, 0, 0);
-  r.spacing = Real(0.1);
-  r.mass = Real(0.04);
-  r.pin_first = true;
-  xpbd::add_rope(scene, r);
-  return make_system(scene);
-}
-
 // A step whose length is not finite and > 0 (stepSimulation(dt, 0) passes
 // it to the internal step as it is) steps no system: the particles stay
 // where they were, nothing is thrown, StepStats::bad_dt says so, and the
@@ -44,7 +29,7 @@ TEST(WorldChecked, StepLengthNotFiniteAndPositiveStepsNothing) {
   BulletWorld bw;
   bw.add_body(new btStaticPlaneShape(btVector3(0, 1, 0), 0), 0, BulletWorld::at(Vec3::Zero()));
   XpbdWorld xw(bw.world());
-  System s = rope();
+  System s = hanging_rope();  // with contacts on (a ground plane far below)
   const auto id = xw.add_system(s.model, s.state);
   bw.step();
   const std::vector<Vec3> before = xw.state(id).x;
@@ -67,7 +52,7 @@ TEST(WorldChecked, StepLengthNotFiniteAndPositiveStepsNothing) {
 TEST(WorldChecked, AttachmentEndsWhenItsBodyIsDeleted) {
   BulletWorld bw;
   XpbdWorld xw(bw.world());
-  System s = rope();
+  System s = hanging_rope();
   const auto id = xw.add_system(s.model, s.state);
   btRigidBody* box = bw.add_body(new btBoxShape(btVector3(0.05f, 0.05f, 0.05f)), 1,
                                  BulletWorld::at(Vec3(Real(0.35), 2, 0)));
@@ -92,7 +77,7 @@ TEST(WorldChecked, AttachmentEndsWhenItsBodyIsDeleted) {
 TEST(WorldChecked, NewBodyAtADeletedBodysAddressDoesNotTakeItsAttachment) {
   BulletWorld bw;
   XpbdWorld xw(bw.world());
-  System s = rope();
+  System s = hanging_rope();
   const auto id = xw.add_system(s.model, s.state);
   btBoxShape shape(btVector3(0.05f, 0.05f, 0.05f));
   btVector3 inertia(0, 0, 0);
@@ -128,7 +113,7 @@ TEST(WorldChecked, NewBodyAtADeletedBodysAddressDoesNotTakeItsAttachment) {
 TEST(WorldChecked, BodyAddedAgainNeedsANewAttachment) {
   BulletWorld bw;
   XpbdWorld xw(bw.world());
-  System s = rope();
+  System s = hanging_rope();
   const auto id = xw.add_system(s.model, s.state);
   btRigidBody* box = bw.add_body(new btBoxShape(btVector3(0.05f, 0.05f, 0.05f)), 1,
                                  BulletWorld::at(Vec3(Real(0.35), 2, 0)));

@@ -63,21 +63,9 @@ struct Scene {
   }
 };
 
-System rope() {
-  xpbd::SceneDesc scene;
-  xpbd::RopeDesc r;
-  r.n = 4;
-  r.start = Vec3(0, 2, 0);
-  r.dir = Vec3(1, 0, 0);
-  r.spacing = Real(0.1);
-  r.mass = Real(0.04);
-  r.pin_first = true;
-  xpbd::add_rope(scene, r);
-  return make_system(scene);
-}
 
 void couple(XpbdWorld& xw, Scene& sc) {
-  System s = rope();
+  System s = hanging_rope();
   const auto id = xw.add_system(s.model, s.state);
   xw.attach(id, 3, sc.box.get(), btVector3(0, btScalar(0.05), 0));
 }

@@ -156,6 +156,21 @@ inline System make_system(const xpbd::SceneDesc& scene) {
   return s;
 }
 
+// A 4-particle rope, 0.1 m links, 0.04 kg, pinned at its first particle at
+// (0, 2, 0) and lying along +x: stepped, its free end falls.
+inline System hanging_rope() {
+  xpbd::SceneDesc scene;
+  xpbd::RopeDesc r;
+  r.n = 4;
+  r.start = Vec3(0, 2, 0);
+  r.dir = Vec3(1, 0, 0);
+  r.spacing = Real(0.1);
+  r.mass = Real(0.04);
+  r.pin_first = true;
+  xpbd::add_rope(scene, r);
+  return make_system(scene);
+}
+
 // Centre of mass (m) of the movable particles of a system.
 inline Vec3 centre_of_mass(const xpbd::Model& m, const xpbd::State& s) {
   Vec3 c = Vec3::Zero();

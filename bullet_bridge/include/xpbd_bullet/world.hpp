@@ -283,8 +283,13 @@ struct StepStats {
   double contact_seconds = 0;
   int triangle_contacts = 0;  // rigid feature - soft triangle contacts created
   // Of those, the ones only the path of a fast feature found (continuous
-  // collision: ContactSettings::thickness).
+  // collision: ContactSettings::sweep_features).
   int swept_triangle_contacts = 0;
+  // Features that reached 16 feature-triangle contacts in the step, the
+  // most one gets (the first found; the rest of its candidate triangles are
+  // not tested). A feature rests on a few triangles; many more come from a
+  // thickness or margin far beyond the size of the cloth's triangles.
+  int capped_features = 0;
   int shadows = 0;     // shadow bodies
   int coupled = 0;     // dynamic bodies handed a change (velocity and residual)
   int late = 0;        // 1 if this step ran from updateAction because the pre-tick hook had been replaced
