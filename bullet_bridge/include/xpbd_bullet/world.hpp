@@ -406,9 +406,9 @@ class XpbdWorld : public btActionInterface {
   // it, which tells this object that the world is gone: destroying the
   // Bullet world first is then safe, and this object's destructor touches
   // nothing of it (only the destructor may be called after that). A cleanup
-  // loop that removes the marker from the world is safe too; one that also
-  // deletes it (as it deletes every collision object) leaves this object
-  // unable to tell, so then destroy this object before the world.
+  // loop that removes the marker from the world (or also deletes it, as
+  // loops that delete every collision object do) leaves this object unable
+  // to tell: after one, destroy this object before the world.
   explicit XpbdWorld(btDiscreteDynamicsWorld& world);
   ~XpbdWorld() override;
   XpbdWorld(const XpbdWorld&) = delete;
