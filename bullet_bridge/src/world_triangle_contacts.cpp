@@ -222,8 +222,9 @@ void XpbdWorld::find_triangle_contacts(System& s, btScalar dt, const Vec3& lo, c
     const Real fast_from = std::max(cs.thickness, Real(1e-3));
     Real r_max = 0;
     for (const Vec3& local : features_) r_max = std::max(r_max, local.norm());
-    const int pieces = std::clamp(
-        static_cast<int>(std::ceil(dt * wb * std::sqrt(r_max / (Real(0.5) * fast_from)))), 1, kSweepPieces);
+    // Clamped before the cast: a huge spin (or a NaN) must not overflow it.
+    const Real want = std::ceil(dt * wb * std::sqrt(r_max / (Real(0.5) * fast_from)));
+    const int pieces = want >= Real(1) ? (want < Real(kSweepPieces) ? static_cast<int>(want) : kSweepPieces) : 1;
     path_tf.clear();
     if (dt * (vb.norm() + ab + wb * r_max) > fast_from && cs.sweep_features) {
       const btVector3 v_mean = to_bt(vb + Real(0.5) * dt * sh.accel), w_mean = to_bt(sh.w + Real(0.5) * dt * sh.ang_accel);
