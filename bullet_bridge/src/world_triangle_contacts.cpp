@@ -146,6 +146,8 @@ constexpr std::size_t kBodyTriangles = 256;
 constexpr int kSweepPieces = 16;
 // At most this many contacts per feature and step (the first found).
 constexpr int kFeatureTriangles = 16;
+// Features per block tested together against a body's triangles.
+constexpr std::size_t kBlock = 8;
 
 void XpbdWorld::find_triangle_contacts(System& s, btScalar dt, const Vec3& lo, const Vec3& hi) {
   const xpbd::Model& m = *s.model;
@@ -160,6 +162,9 @@ void XpbdWorld::find_triangle_contacts(System& s, btScalar dt, const Vec3& lo, c
   Vec3 path_lo, path_hi;                       // and its box
   std::vector<Vec3> centres;                   // each feature's shape centre (body frame)
   std::vector<std::array<Vec3, 3>> mesh_tris;  // a mesh's triangles near the system
+  std::vector<Vec3> feature_at;                // a body's features at the step's start (world)
+  std::vector<Real> feature_travel;            // and how far each can move over the step
+  std::vector<int> block_tris;                 // the body's triangles near a block of features
   for (const btCollisionObject* obj : candidates_) {
     features_.clear();
     centres.clear();
@@ -319,15 +324,22 @@ void XpbdWorld::find_triangle_contacts(System& s, btScalar dt, const Vec3& lo, c
     // whole (one query); a feature then tests those, in ascending order as
     // the loop does, or, when they are many (a body under much of the
     // cloth), queries the hierarchy itself.
+    // The features at the start of the step and how far they can move.
+    const std::size_t nf = features_.size();
+    feature_at.resize(nf);
+    feature_travel.resize(nf);
+    for (std::size_t i = 0; i < nf; ++i) {
+      feature_at[i] = to_vec(start * to_bt(features_[i]));
+      feature_travel[i] = dt * (vb.norm() + ab + wb * features_[i].norm());
+    }
     bool per_feature = false;
     if (use_bvh) {
       Vec3 flo = Vec3::Constant(std::numeric_limits<Real>::max()), fhi = -flo;
       Real reach = 0;
-      for (const Vec3& local : features_) {
-        const Vec3 q0 = to_vec(start * to_bt(local));
-        flo = flo.cwiseMin(q0);
-        fhi = fhi.cwiseMax(q0);
-        reach = std::max(reach, dt * (vb.norm() + ab + wb * local.norm()));
+      for (std::size_t i = 0; i < nf; ++i) {
+        flo = flo.cwiseMin(feature_at[i]);
+        fhi = fhi.cwiseMax(feature_at[i]);
+        reach = std::max(reach, feature_travel[i]);
       }
       reach += grow_max;
       const Real pad = pad_of(flo.cwiseAbs().cwiseMax(fhi.cwiseAbs()), reach);
@@ -335,15 +347,36 @@ void XpbdWorld::find_triangle_contacts(System& s, btScalar dt, const Vec3& lo, c
       s.tri_bvh->query((flo.array() - (reach + pad)).matrix(), (fhi.array() + (reach + pad)).matrix(), body_tris_);
       per_feature = body_tris_.size() > kBodyTriangles;
     }
-    for (const Vec3& local : features_) {
+    for (std::size_t i = 0; i < nf; ++i) {
+      const Vec3& local = features_[i];
+      if (use_bvh && !per_feature && i % kBlock == 0) {
+        // A block of kBlock features that follow each other (along an edge
+        // they are neighbours): the body's triangles that its box, grown by
+        // its largest travel, overlaps. A triangle left out fails each of
+        // its features' own box test below (rounding is monotone), so the
+        // contacts are the same, in the same order.
+        const std::size_t end = std::min(nf, i + kBlock);
+        Vec3 blo = feature_at[i], bhi = blo;
+        Real tmax = 0;
+        for (std::size_t j = i; j < end; ++j) {
+          blo = blo.cwiseMin(feature_at[j]);
+          bhi = bhi.cwiseMax(feature_at[j]);
+          tmax = std::max(tmax, feature_travel[j]);
+        }
+        block_tris.clear();
+        for (const int t : body_tris_)
+          if (!((blo.array() - tmax > tri_hi_[std::size_t(t)].array()).any() ||
+                (bhi.array() + tmax < tri_lo_[std::size_t(t)].array()).any()))
+            block_tris.push_back(t);
+      }
       feature_contacts = 0;
       // The feature at the start of the step and where it moves over the step.
-      const Vec3 q0 = to_vec(start * to_bt(local));
-      const Real travel = dt * (vb.norm() + ab + wb * local.norm());
+      const Vec3 q0 = feature_at[i];
+      const Real travel = feature_travel[i];
       if ((q0.array() + travel < lo.array()).any() || (q0.array() - travel > hi.array()).any())
         continue;
       const Vec3* path = nullptr;
-      const Vec3 centre = to_vec(start * to_bt(centres[std::size_t(&local - features_.data())]));
+      const Vec3 centre = to_vec(start * to_bt(centres[i]));
       if (!path_tf.empty() && travel > fast_from) {
         path_lo = Vec3::Constant(std::numeric_limits<Real>::max());
         path_hi = -path_lo;
@@ -358,7 +391,7 @@ void XpbdWorld::find_triangle_contacts(System& s, btScalar dt, const Vec3& lo, c
       if (!use_bvh) {
         for (std::size_t t = 0; t < tris.size(); ++t) try_triangle(local, q0, travel, t, path, centre);
       } else if (!per_feature) {
-        for (const int t : body_tris_) try_triangle(local, q0, travel, std::size_t(t), path, centre);
+        for (const int t : block_tris) try_triangle(local, q0, travel, std::size_t(t), path, centre);
       } else {
         const Real reach = travel + grow_max, pad = pad_of(q0, reach);
         tri_found_.clear();
