@@ -468,6 +468,13 @@ Model compile(const SceneDesc& s) {
   m.distance_stream = detail::make_distance_stream(m);
   m.dihedral_colours = colour_elements(m.get<DihedralBending>(), n);
   m.dihedral_stream = detail::make_dihedral_stream(m);
+  m.chains = find_chains(m.get<Distance>(), n);
+  {
+    std::vector<Index> slot(m.get<Distance>().size(), 0);
+    for (std::size_t j = 0; j < m.distance_colours.order.size(); ++j)
+      slot[static_cast<std::size_t>(m.distance_colours.order[j])] = static_cast<Index>(j);
+    for (Index k : m.chains.element) m.chains.stream_slot.push_back(slot[static_cast<std::size_t>(k)]);
+  }
   return m;
 }
 

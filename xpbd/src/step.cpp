@@ -12,6 +12,7 @@
 #include "xpbd/solve.hpp"
 #include "xpbd/spatial_hash.hpp"
 #include "xpbd/special_constraints.hpp"
+#include "chains_solve.hpp"
 #include "stream.hpp"
 
 namespace xpbd {
@@ -250,6 +251,12 @@ void validate(const StepConfig& cfg) {
                       num(cfg.contact_margin));
   if (cfg.workers != nullptr && !cfg.coloured)
     throw ConfigError("StepConfig.workers: the threads split the coloured sweep; set coloured = true");
+  if (cfg.direct_chains && cfg.method != Method::xpbd)
+    throw ConfigError("StepConfig.direct_chains: needs method xpbd (the direct solve is XPBD's linearised system)");
+  if (cfg.chain_passes < 1)
+    throw ConfigError("StepConfig.chain_passes: must be >= 1, got " + std::to_string(cfg.chain_passes));
+  if (!(cfg.chain_tolerance >= Real(0)) || !std::isfinite(cfg.chain_tolerance))
+    throw ConfigError("StepConfig.chain_tolerance: must be finite and >= 0, got " + num(cfg.chain_tolerance));
   if (cfg.contact_sweeps < 0)
     throw ConfigError("StepConfig.contact_sweeps: must be >= 0, got " +
                       std::to_string(cfg.contact_sweeps));
@@ -270,6 +277,14 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
     begin_step_constraints(m, s);
     // Host-supplied rigid bodies, contacts and attachments: checked and sized.
     rigid::begin_step(m, s);
+    if (cfg.direct_chains) {
+      if (m.chains.num_distance != m.get<Distance>().size() ||
+          !(m.chains.end_of.empty() || m.chains.end_of.size() == static_cast<std::size_t>(m.num_particles())))
+        throw ConfigError("StepConfig.direct_chains: model.chains was found in " +
+                          std::to_string(m.chains.num_distance) + " Distance elements, the model has " +
+                          std::to_string(m.get<Distance>().size()) + " (or the particles changed; use compile)");
+      detail::chains_begin_step(m, s);
+    }
   });
   const bool refresh = cfg.contact_margin > Real(0) && static_cast<bool>(cfg.refresh_contacts);
   if (refresh) begin_paths(m, s);
@@ -295,6 +310,7 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
   if (stream) timed(t, stage::step_setup, true, [&] { detail::stream_begin_step(m, s, h, cfg.workers); });
   const bool hinges = cfg.coloured && cfg.method == Method::xpbd && !m.get<DihedralBending>().empty();
   if (hinges) timed(t, stage::step_setup, true, [&] { detail::dihedral_begin_step(m, s, h, cfg.workers); });
+  const bool chains = cfg.direct_chains && m.chains.size() > 0;
   std::uint64_t sweeps = 0;  // in this step
   for (int sub = 0; sub < cfg.substeps; ++sub) {
     timed(t, stage::predict, true, [&] {
@@ -338,6 +354,7 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
       sc.reverse = cfg.alternate_sweeps && ((s.sweeps + sweeps) & 1) != 0;
       ++sweeps;
       solve_constraints(m, s, sc, cfg, it == 0, t);
+      if (chains) timed(t, stage::of<Distance>, true, [&] { detail::chains_solve(m, s, h, stream, cfg.chain_passes, cfg.chain_tolerance); });
       timed(t, stage::self_collision_solve, !s.self_collision.pairs.empty(),
             [&] { solve_self_collisions(m, s, sc); });
       timed(t, stage::body_attachments, !s.attachments.empty(),

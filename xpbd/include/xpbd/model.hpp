@@ -4,6 +4,7 @@
 #include <array>
 #include <vector>
 
+#include "xpbd/chains.hpp"
 #include "xpbd/constraint_types.hpp"
 #include "xpbd/dihedral_stream.hpp"
 #include "xpbd/distance_stream.hpp"
@@ -66,6 +67,8 @@ struct Model {
   // (dihedral_stream.hpp), for the coloured XPBD sweep.
   ColourSchedule dihedral_colours;
   DihedralStream dihedral_stream;
+  // The Distance elements' chains (chains.hpp), for StepConfig::direct_chains.
+  Chains chains;
 
   // Opt-in particle-particle collision (spatial_hash.hpp); empty when off.
   SelfCollisionModel self_collision;

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "xpbd/aligned.hpp"
+#include "xpbd/chains.hpp"
 #include "xpbd/constraint_types.hpp"
 #include "xpbd/rigid.hpp"
 #include "xpbd/spatial_hash.hpp"
@@ -93,6 +94,8 @@ struct State {
   // (dihedral_stream.hpp; it reads the records above): the multipliers in
   // stream order, compliance/h^2 and compliance*damping/h.
   std::vector<Real> dihedral_lambda, dihedral_at, dihedral_gamma;
+  // The direct chain solve's scratch (StepConfig::direct_chains, chains.hpp).
+  ChainScratch chain;
 
   // Particle-particle collision (spatial_hash.hpp): hash and the pairs found
   // at the start of the current step. Empty when the model has it off.
