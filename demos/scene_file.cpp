@@ -58,6 +58,11 @@ SolverSpec read_solver(const Ctx& c, const json& v, const std::string& path) {
   non_negative(c, s.drag, o.at("drag"));
   o.boolean("alternate_sweeps", s.alternate_sweeps);
   o.boolean("coloured", s.coloured);
+  o.boolean("direct_chains", s.direct_chains);
+  o.integer("chain_passes", s.chain_passes);
+  at_least(c, s.chain_passes, 1, o.at("chain_passes"));
+  o.real("chain_tolerance", s.chain_tolerance);
+  non_negative(c, s.chain_tolerance, o.at("chain_tolerance"));
   o.vec("gravity", s.gravity);
   o.real("bullet_kLST", s.bullet_kLST);
   c.require(s.bullet_kLST > Real(0) && s.bullet_kLST <= Real(1), o.at("bullet_kLST"),

@@ -375,6 +375,9 @@ class XpbdSim : public SoftSim {
     s.drag = spec.solver.drag;
     s.alternate_sweeps = spec.solver.alternate_sweeps;
     s.coloured = spec.solver.coloured;
+    s.direct_chains = spec.solver.direct_chains && opt.solver == Solver::xpbd;
+    s.chain_passes = spec.solver.chain_passes;
+    s.chain_tolerance = spec.solver.chain_tolerance;
     if (opt.threads > 1) {
       workers_ = std::make_unique<xpbd::Workers>(opt.threads);
       s.workers = workers_.get();
@@ -510,6 +513,8 @@ class BulletSim : public SoftSim {
       notes.push_back("btSoftBody: alternate_sweeps is not used (btSoftBody sweeps its links in one order)");
     if (spec.solver.coloured)
       notes.push_back("btSoftBody: coloured is not used (btSoftBody sweeps its links in one order)");
+    if (spec.solver.direct_chains)
+      notes.push_back("btSoftBody: direct_chains is not used (btSoftBody sweeps its links)");
     if (opt.tolerance > 0)
       notes.push_back("btSoftBody: tolerance is not used (it runs the fixed substeps x iterations)");
     if (!spec.bodies.empty()) {
@@ -678,6 +683,7 @@ RunResult run_scene(const SceneSpec& spec, const ExpandedSoft& soft, const RunOp
                          {"drag", double(spec.solver.drag)},
                          {"alternate_sweeps", spec.solver.alternate_sweeps},
                          {"coloured", spec.solver.coloured},
+                         {"direct_chains", spec.solver.direct_chains && opt.solver == Solver::xpbd},
                          {"contacts",
                           {{"enabled", !spec.bodies.empty()},
                            {"thickness", double(c.thickness)},

@@ -44,6 +44,10 @@ struct SolverSpec {
   bool alternate_sweeps = false;
   // Coloured sweep of the Distance elements (xpbd::StepConfig::coloured).
   bool coloured = false;
+  // Direct solve along chains (xpbd::StepConfig::direct_chains; XPBD only).
+  bool direct_chains = false;
+  int chain_passes = 16;                       // xpbd::StepConfig::chain_passes (>= 1)
+  xpbd::Real chain_tolerance = xpbd::Real(1e-3);  // xpbd::StepConfig::chain_tolerance (>= 0)
   xpbd::Vec3 gravity{xpbd::Real(0), xpbd::Real(-9.81), xpbd::Real(0)};  // m/s^2, world gravity
   // btSoftBody (--solver bullet) at the matched budget: `substeps` internal
   // steps of dt/substeps per frame, each with `iterations` position

@@ -49,6 +49,11 @@ void check_settings(const SystemSettings& s) {
     bad("sleep_speed", "must be finite and >= 0, got " + xpbd::format_value(double(s.sleep_speed)));
   if (!(s.sleep_time > Real(0)) || !std::isfinite(s.sleep_time))
     bad("sleep_time", "must be finite and > 0, got " + xpbd::format_value(double(s.sleep_time)));
+  if (s.direct_chains && s.method != xpbd::Method::xpbd)
+    bad("direct_chains", "needs method xpbd (the direct solve is XPBD's linearised system)");
+  if (s.chain_passes < 1) bad("chain_passes", "must be >= 1, got " + std::to_string(s.chain_passes));
+  if (!(s.chain_tolerance >= Real(0)) || !std::isfinite(s.chain_tolerance))
+    bad("chain_tolerance", "must be finite and >= 0, got " + xpbd::format_value(double(s.chain_tolerance)));
   if (s.workers != nullptr && !s.coloured)
     bad("workers", "the threads split the coloured sweep; set coloured = true");
   xpbd::validate(s.health, "SystemSettings.health.");

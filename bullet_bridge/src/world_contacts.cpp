@@ -329,6 +329,9 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
   cfg.drag = set.drag;
   cfg.alternate_sweeps = set.alternate_sweeps;
   cfg.coloured = set.coloured;
+  cfg.direct_chains = set.direct_chains;
+  cfg.chain_passes = set.chain_passes;
+  cfg.chain_tolerance = set.chain_tolerance;
   cfg.workers = set.workers;
   cfg.contact_sweeps = set.contact_sweeps;
   cfg.contact_tolerance = set.contact_tolerance;

@@ -59,6 +59,13 @@ TEST(WorldSettings, BadSettingsAreRefusedWhereTheyAreSetAndTheOldOnesKept) {
   bad.contacts.restitution = std::numeric_limits<Real>::quiet_NaN();
   EXPECT_TRUE(names([&] { xw.set_settings(id, bad); }, "contacts.restitution", "nan"));
   bad = xw.settings(id);
+  bad.chain_passes = 0;
+  EXPECT_TRUE(names([&] { xw.set_settings(id, bad); }, "SystemSettings.chain_passes", "0"));
+  bad = xw.settings(id);
+  bad.direct_chains = true;
+  bad.method = xpbd::Method::pbd;
+  EXPECT_TRUE(names([&] { xw.set_settings(id, bad); }, "SystemSettings.direct_chains", "xpbd"));
+  bad = xw.settings(id);
   xpbd::Workers pool(2);
   bad.workers = &pool;  // without coloured
   EXPECT_TRUE(names([&] { xw.set_settings(id, bad); }, "SystemSettings.workers", "coloured"));

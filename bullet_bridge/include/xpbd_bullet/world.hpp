@@ -230,6 +230,11 @@ struct SystemSettings {
   xpbd::Real drag = 0;  // 1/s
   bool alternate_sweeps = false;  // xpbd::StepConfig::alternate_sweeps
   bool coloured = false;          // xpbd::StepConfig::coloured
+  // Direct solve along chains, attached bodies included (XPBD only):
+  // xpbd::StepConfig::direct_chains.
+  bool direct_chains = false;
+  int chain_passes = 16;                     // xpbd::StepConfig::chain_passes
+  xpbd::Real chain_tolerance = xpbd::Real(1e-3);  // xpbd::StepConfig::chain_tolerance
   // Threads for the coloured sweep (xpbd::StepConfig::workers; needs
   // coloured): a pool the application owns and keeps alive while the
   // system steps; one pool can serve every system (they step in turn).
