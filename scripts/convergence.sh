@@ -8,7 +8,11 @@
 #   tethers      n x 1 with long-range attachments (cloth.tethers =
 #                nearest_pinned); cloths only: the rope generator has none
 #   alternate    n x 1 with alternate_sweeps (forward and backward sweeps)
-# and once with its tolerance (the substeps chosen frame by frame).
+#   direct       n x 1, n = 5, 10, 20, 40, with the direct solve along chains
+#                (solver.direct_chains); ropes only: a cloth's only chains
+#                are its corners
+# and once with its tolerance (the substeps chosen frame by frame). Each
+# method alone: the scene's own direct_chains is off but in the direct rows.
 # Error: the run's largest edge strain; time: the median of 3 runs' ms per
 # frame of stepping. Writes docs/convergence.csv, docs/convergence_results.md
 # and docs/convergence.png (gnuplot, one panel per scene, log-log).
@@ -51,7 +55,9 @@ csv=docs/convergence.csv
 echo "scene,method,budget,ms_per_frame,max_strain,status" > "$csv"
 for scene in "${scenes[@]}"; do
   cloth=$("$demo" --dump "$scene" | grep -c '"cloth"' || true)
-  off=(--set solver.tolerance=0)
+  rope=$("$demo" --dump "$scene" | grep -c '"rope"' || true)
+  # Every method alone: the scene's own tolerance and direct solve off.
+  off=(--set solver.tolerance=0 --set solver.direct_chains=false)
   for n in 10 20 40 80 160; do
     read -r ms strain status < <(run "$scene" "${off[@]}" --substeps "$n" --iterations 1)
     echo "$scene,substeps,${n}x1,$ms,$strain,$status" >> "$csv"
@@ -63,11 +69,17 @@ for scene in "${scenes[@]}"; do
       echo "$scene,tethers,${n}x1,$ms,$strain,$status" >> "$csv"
     fi
   done
+  if [ "$rope" -gt 0 ]; then
+    for n in 5 10 20 40; do
+      read -r ms strain status < <(run "$scene" "${off[@]}" --substeps "$n" --iterations 1 --set solver.direct_chains=true)
+      echo "$scene,direct,${n}x1,$ms,$strain,$status" >> "$csv"
+    done
+  fi
   for k in 2 4 8 16; do
     read -r ms strain status < <(run "$scene" "${off[@]}" --substeps 10 --iterations "$k")
     echo "$scene,iterations,10x$k,$ms,$strain,$status" >> "$csv"
   done
-  read -r ms strain status < <(run "$scene")
+  read -r ms strain status < <(run "$scene" --set solver.direct_chains=false)
   echo "$scene,tolerance,tolerance,$ms,$strain,$status" >> "$csv"
 done
 
@@ -100,13 +112,14 @@ gp=out/convergence/chart.gp
     echo "set title '$scene'"
     plot="plot"
     sep=""
-    for method in substeps iterations tethers alternate tolerance; do
+    for method in substeps iterations tethers alternate direct tolerance; do
       if grep "^$scene,$method," "$csv" | grep -q -v -e exploded -e nonfinite; then
         case "$method" in  # one colour per method in every panel
           substeps) style="linespoints lc 1" ;;
           iterations) style="linespoints lc 2" ;;
           tethers) style="linespoints lc 3" ;;
           alternate) style="linespoints lc 4" ;;
+          direct) style="linespoints lc 6" ;;
           *) style="points pt 7 ps 2 lc 7" ;;
         esac
         plot+="$sep '< grep \"^$scene,$method,\" $csv | grep -v -e exploded -e nonfinite' using 4:5 with $style title '$method'"
