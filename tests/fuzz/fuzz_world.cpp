@@ -145,6 +145,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
               set.contacts.feature_spacing = value(in, 0, 0.1f);
               set.contact_sweeps = in.ConsumeIntegralInRange<int>(-1, 4);
               set.sleep_speed = value(in, 0, 1);
+              set.direct_chains = in.ConsumeBool();
+              set.chain_passes = in.ConsumeIntegralInRange<int>(0, 20);
+              set.chain_tolerance = value(in, 0, 0.01f);
               xw.set_settings(sys, set);
             }
             break;
