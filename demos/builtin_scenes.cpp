@@ -454,6 +454,11 @@ SceneSpec heavy_rope() {
   s.bodies.push_back(box("box", Vec3::Constant(a), end + (a + gap) * r.dir, Real(0.2)));
   s.attachments.push_back(AttachmentSpec{r.n - 1, 0, -(a + gap) * r.dir, 0});
   s.solver.direct_chains = true;
+  // The tolerance controller starts at 4 substeps: it rises at once where
+  // the rope whips and falls slowly (docs/tolerance.md), so a start above
+  // what the calm parts need is paid for 30 steps per fifth. Measured: a
+  // mean of 4.47 substeps from 4, 7.24 from the library's 10.
+  s.solver.substeps = 4;
   s.solver.tolerance = 0.05;
   s.solver.max_substeps = 400;
   s.solver.frames = 180;
