@@ -27,9 +27,11 @@
 namespace xpbd {
 namespace {
 
-void check_chain(const Material& mat, int substeps, int iterations) {
-  constexpr int N = 20;
-  constexpr Real m = 1, g = 10, l = Real(0.01);
+constexpr int N = 20;
+constexpr Real m = 1, g = 10, l = Real(0.01);
+
+// The chain: N particles l apart hanging down from (0, 1, 0), the first pinned.
+Model chain_model(const Material& mat) {
   SceneDesc sd;
   RopeDesc rope;
   rope.n = N;
@@ -40,7 +42,11 @@ void check_chain(const Material& mat, int substeps, int iterations) {
   rope.pin_first = true;
   rope.mat = mat;
   add_rope(sd, rope);
-  const Model model = compile(sd);
+  return compile(sd);
+}
+
+void check_chain(const Material& mat, int substeps, int iterations) {
+  const Model model = chain_model(mat);
   ASSERT_EQ(model.get<Distance>().size(), std::size_t(N - 1));
   ASSERT_EQ(total_mass(model), (N - 1) * m);
   State s = make_state(model);
@@ -85,18 +91,8 @@ TEST(HangingChain, SupportForceFromLambdaCompliant) {
 // (StepConfig::direct_chains) every link stretches by alpha times the weight
 // below it. Returns the largest |stretch - alpha F| over the links (m).
 Real stretch_error(bool direct, Real& top_stretch) {
-  constexpr int N = 20;
-  constexpr Real m = 1, g = 10, l = Real(0.01), alpha = Real(1e-8);
-  SceneDesc sd;
-  RopeDesc rope;
-  rope.n = N;
-  rope.start = Vec3(0, 1, 0);
-  rope.dir = -Vec3::UnitY();
-  rope.spacing = l;
-  rope.mass = m;
-  rope.mat = Material{alpha, 0, 1};
-  add_rope(sd, rope);
-  const Model model = compile(sd);
+  constexpr Real alpha = Real(1e-8);
+  const Model model = chain_model(Material{alpha, 0, 1});
   State s = make_state(model);
   StepConfig cfg;
   cfg.gravity = Vec3(0, -g, 0);
