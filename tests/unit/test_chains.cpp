@@ -62,6 +62,10 @@ TEST(FindChains, BranchesDampingLoopsAndSingleElements) {
   xpbd::SceneDesc ring = points(4);
   ring.distances = {edge(0, 1), edge(1, 2), edge(2, 3), edge(3, 0)};
   EXPECT_EQ(xpbd::compile(ring).chains.size(), 0);
+  // A loop that leaves a branching particle and comes back to it.
+  xpbd::SceneDesc lollipop = points(4);
+  lollipop.distances = {edge(0, 1), edge(1, 2), edge(2, 3), edge(3, 1)};
+  EXPECT_EQ(xpbd::compile(lollipop).chains.size(), 0);
   xpbd::SceneDesc one = points(2);
   one.distances = {edge(0, 1)};
   EXPECT_EQ(xpbd::compile(one).chains.size(), 0);

@@ -67,7 +67,10 @@ Chains find_chains(const std::vector<Distance>& elements, Index num_particles) {
         k = adj[b] == k ? adj[b + 1] : adj[b];
         if (used[static_cast<std::size_t>(k)]) break;  // cannot happen from an end; kept as a guard
       }
-      if (out.element.size() - e0 < 2) {  // one element: the sweep solves it exactly
+      // One element: the sweep solves it exactly. A loop back to the particle
+      // it started from: its first and last rows share that particle, which
+      // a tridiagonal system cannot hold.
+      if (out.element.size() - e0 < 2 || q == p) {
         out.element.resize(e0);
         out.particle.resize(p0);
         continue;
@@ -81,8 +84,8 @@ Chains find_chains(const std::vector<Distance>& elements, Index num_particles) {
     for (Index c = 0; c < out.size(); ++c) {
       const auto b = static_cast<std::size_t>(out.begin[static_cast<std::size_t>(c)] + c);
       const auto e = static_cast<std::size_t>(out.begin[static_cast<std::size_t>(c) + 1] + c);
-      // An end shared by two chains (a particle where three chains meet, or
-      // both ends of a chain on one particle) keeps the first claim.
+      // An end shared by two chains (a particle where three chains meet)
+      // keeps the first claim.
       Index& f = out.end_of[static_cast<std::size_t>(out.particle[b])];
       if (f < 0) f = 2 * c;
       Index& l = out.end_of[static_cast<std::size_t>(out.particle[e])];

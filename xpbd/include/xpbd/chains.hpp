@@ -30,7 +30,8 @@ struct Distance;
 // The chains of a model's Distance elements (compile() fills
 // Model::chains). Only undamped elements (damping = 0) are taken: an element
 // with damping ends a chain and stays with the sweep. A closed loop (every
-// particle in two elements) is not a chain. Chains of one element are not
+// particle in two elements, or a path back to the particle it left) is not
+// a chain. Chains of one element are not
 // kept (the sweep solves one element exactly already).
 struct Chains {
   // Chain c has the elements element[begin[c]] .. element[begin[c + 1] - 1]
