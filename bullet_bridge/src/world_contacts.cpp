@@ -344,6 +344,10 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
     };
   }
   if (set.check_health) health_before_solve(s, dt);
+  // A refresh inside the solve may add bodies to State::bodies (and their
+  // shadows to shadow_of_body, which must stay parallel to it): a step
+  // solved again starts from the bodies it had before.
+  const std::size_t bodies_before = s.shadow_of_body.size();
   if (target) s.tol_saved = st;
   double strain = 0;
   for (;;) {
@@ -366,6 +370,7 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
     subs = std::min(cap,
                     std::max(subs + 1, substeps_for(subs, strain, kTolAimUp * set.tolerance.strain, 2)));
     st = s.tol_saved;
+    s.shadow_of_body.resize(bodies_before);
     ++stats_.resolved;
   }
   s.health.substeps = subs;
