@@ -202,6 +202,21 @@ RunOutput run_one(const SceneSpec& spec, const ExpandedSoft& soft, const RunOpti
   return out;
 }
 
+// "0.05 strain", "1 mm penetration", or both joined by "and".
+std::string tolerance_text(const RunOptions& o) {
+  char buf[96];
+  std::string t;
+  if (o.tolerance > 0) {
+    std::snprintf(buf, sizeof buf, "%.3g strain", o.tolerance);
+    t = buf;
+  }
+  if (o.penetration_tolerance > 0) {
+    std::snprintf(buf, sizeof buf, "%.3g mm penetration", 1e3 * o.penetration_tolerance);
+    t += (t.empty() ? "" : " and ") + std::string(buf);
+  }
+  return t;
+}
+
 void print_run(const RunOutput& o) {
   const RunResult& r = o.result;
   // With a tolerance the budget is the mean substeps per frame, rounded (the
@@ -300,11 +315,11 @@ int run(const Cli& cli) {
   print_header();
   for (const RunOutput& o : outs) print_run(o);
   for (const RunOutput& o : outs)
-    if (const RunResult& r = o.result; r.options.tolerance > 0 && r.options.solver != Solver::bullet)
-      std::printf("%-8s tolerance %.3g strain: %.3g substeps per frame on average (started at %d), largest %d "
+    if (const RunResult& r = o.result; r.options.tolerance_on() && r.options.solver != Solver::bullet)
+      std::printf("%-8s tolerance %s: %.3g substeps per frame on average (started at %d), largest %d "
                   "(at most %d), %d frame(s) above it\n",
-                  solver_name(r.options.solver), r.options.tolerance, r.mean_substeps, r.options.substeps,
-                  r.max_substeps_used, r.options.max_substeps, r.frames_tolerance_missed);
+                  solver_name(r.options.solver), tolerance_text(r.options).c_str(), r.mean_substeps,
+                  r.options.substeps, r.max_substeps_used, r.options.max_substeps, r.frames_tolerance_missed);
   for (const std::string& s : skipped) std::printf("skipped %s\n", s.c_str());
   for (const RunOutput& o : outs) print_stages(o.result);
   if (cli.hash) {

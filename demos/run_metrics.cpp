@@ -85,8 +85,9 @@ nlohmann::json to_json(const RunResult& r) {
     j["stage_ms_per_frame"] = std::move(stages);
   }
   if (r.forces) j["forces"] = forces_json(*r.forces);
-  if (r.options.tolerance > 0)
+  if (r.options.tolerance_on())
     j["tolerance"] = {{"strain", r.options.tolerance},
+                      {"penetration", r.options.penetration_tolerance},
                       {"max_substeps", r.options.max_substeps},
                       {"mean_substeps", r.mean_substeps},
                       {"max_substeps_used", r.max_substeps_used},

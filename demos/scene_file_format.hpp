@@ -132,7 +132,7 @@ using Keys = std::initializer_list<const char*>;
 inline constexpr Keys kTopKeys{"name", "description", "solver", "soft", "bodies", "attachments"};
 inline constexpr Keys kSolverKeys{"method", "dt", "substeps", "iterations", "frames", "drag", "alternate_sweeps",
                            "coloured", "direct_chains", "chain_passes", "chain_tolerance", "gravity", "bullet_kLST", "max_strain",
-                           "tolerance", "max_substeps"};
+                           "tolerance", "penetration_tolerance", "max_substeps"};
 inline constexpr Keys kSoftKeys{"particles", "generators", "contacts", "distances", "collisions", "pins", "planes",
                      "penetrations", "dihedral_bends", "isometric_bends", "tets", "tethers",
                      "global_volumes", "self_collision", "collision_triangles"};

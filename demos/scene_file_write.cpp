@@ -352,6 +352,7 @@ json to_json(const SceneSpec& s) {
                  {"bullet_kLST", out_real(v.bullet_kLST)},
                  {"max_strain", v.max_strain},
                  {"tolerance", v.tolerance},
+                 {"penetration_tolerance", v.penetration_tolerance},
                  {"max_substeps", v.max_substeps}};
   j["soft"] = out_soft(s.soft);
   json bodies = json::array();

@@ -91,6 +91,8 @@ void validate_options(const RunOptions& o, const SceneSpec& spec) {
   xpbd::validate(o.health, "solver.");
   if (!(o.tolerance >= 0) || !std::isfinite(o.tolerance))
     fail("tolerance", "must be finite and >= 0 (0 = off), got " + num(o.tolerance));
+  if (!(o.penetration_tolerance >= 0) || !std::isfinite(o.penetration_tolerance))
+    fail("penetration_tolerance", "must be finite and >= 0 (m, 0 = off), got " + num(o.penetration_tolerance));
   if (o.max_substeps < 1) fail("max_substeps", "must be >= 1, got " + std::to_string(o.max_substeps));
 }
 
@@ -392,6 +394,7 @@ class XpbdSim : public SoftSim {
     s.contacts.compliance = c.compliance;
     s.contacts.feature_spacing = c.feature_spacing;
     s.tolerance.strain = opt.tolerance;
+    s.tolerance.penetration = opt.penetration_tolerance;
     s.tolerance.max_substeps = opt.max_substeps;
     timing_ = opt.stage_times;
     if (timing_) s.times = &times_;
@@ -425,7 +428,7 @@ class XpbdSim : public SoftSim {
   long long projections_per_frame() const override { return projections_; }
   const xpbd_bullet::SystemTimes* times() const override { return timing_ ? &times_ : nullptr; }
   std::optional<int> frame_substeps() const override {
-    if (!(world_.settings(id_).tolerance.strain > 0)) return std::nullopt;
+    if (!world_.settings(id_).tolerance.on()) return std::nullopt;
     return frame_substeps_;
   }
   bool frame_tolerance_met() const override { return frame_met_; }
@@ -517,6 +520,8 @@ class BulletSim : public SoftSim {
       notes.push_back("btSoftBody: direct_chains is not used (btSoftBody sweeps its links)");
     if (opt.tolerance > 0)
       notes.push_back("btSoftBody: tolerance is not used (it runs the fixed substeps x iterations)");
+    if (opt.penetration_tolerance > 0)
+      notes.push_back("btSoftBody: penetration_tolerance is not used (it runs the fixed substeps x iterations)");
     if (!spec.bodies.empty()) {
       if (!model.collision_triangles.empty())
         notes.push_back("btSoftBody: the " + std::to_string(model.collision_triangles.size()) +
@@ -616,6 +621,7 @@ RunOptions run_options(const SceneSpec& spec) {
   o.frames = spec.solver.frames;
   o.health.max_strain = spec.solver.max_strain;
   o.tolerance = spec.solver.tolerance;
+  o.penetration_tolerance = spec.solver.penetration_tolerance;
   o.max_substeps = spec.solver.max_substeps;
   return o;
 }

@@ -72,10 +72,13 @@ struct RunOptions {
   // defaults (energy factor 10, floor 1e-3 J, no distance bound).
   xpbd::HealthThresholds health;
   // xpbd/pbd only: the accuracy target (the scene's solver.tolerance and
-  // max_substeps; xpbd_bullet::Tolerance). tolerance > 0: `substeps` is
-  // where the count starts, and the run picks it frame by frame.
-  double tolerance = 0;
+  // penetration_tolerance and max_substeps; xpbd_bullet::Tolerance). With
+  // either > 0, `substeps` is where the count starts, and the run picks it
+  // frame by frame.
+  double tolerance = 0;              // largest strain
+  double penetration_tolerance = 0;  // m, deepest contact violation
   int max_substeps = 200;
+  bool tolerance_on() const { return tolerance > 0 || penetration_tolerance > 0; }
 };
 
 // spec.solver's method, dt, substeps, iterations and frames.

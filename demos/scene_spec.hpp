@@ -64,6 +64,10 @@ struct SolverSpec {
   // largest Distance strain stays within it, starting from `substeps`, at
   // most max_substeps. 0 = off (`substeps` fixed).
   double tolerance = 0;
+  // m, the same for the deepest contact violation (how far a particle is
+  // inside the contact band of its thickness; xpbd_bullet::Tolerance::
+  // penetration). 0 = off; with both set, the run meets both.
+  double penetration_tolerance = 0;
   int max_substeps = 200;  // >= 1
 };
 

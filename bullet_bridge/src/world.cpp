@@ -59,6 +59,9 @@ void check_settings(const SystemSettings& s) {
   xpbd::validate(s.health, "SystemSettings.health.");
   if (!(s.tolerance.strain >= 0) || !std::isfinite(s.tolerance.strain))
     bad("tolerance.strain", "must be finite and >= 0 (0 = off), got " + xpbd::format_value(s.tolerance.strain));
+  if (!(s.tolerance.penetration >= 0) || !std::isfinite(s.tolerance.penetration))
+    bad("tolerance.penetration",
+        "must be finite and >= 0 (m, 0 = off), got " + xpbd::format_value(s.tolerance.penetration));
   if (s.tolerance.max_substeps < 1)
     bad("tolerance.max_substeps", "must be >= 1, got " + std::to_string(s.tolerance.max_substeps));
 }

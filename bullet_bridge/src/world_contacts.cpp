@@ -144,17 +144,17 @@ void XpbdWorld::add_world_contacts(System& s, btScalar dt) {
 namespace {
 
 // The tolerance's controller (SystemSettings::tolerance, world.hpp): the
-// substeps that bring `strain` (measured at n) to `aim` if the strain falls
-// as 1/n^power. Up (a step solved again): power 2, the h^2 term of one sweep
-// per substep, so the count jumps close to what is needed. Down: power 1, a
-// cautious guess. Measured on the built-in stiff scenes (scripts/
+// substeps that bring `error` (measured at n, relative to the tolerance) to
+// `aim` if the error falls as 1/n^power. Up (a step solved again): power 2,
+// the h^2 term of one sweep per substep, so the count jumps close to what is
+// needed. Down: power 1, a cautious guess. Measured on the built-in stiff scenes (scripts/
 // tolerance.sh): aiming up at 90 % instead of 70 % made heavy_rope blow up
 // (strain 0.17, exploded); a rise capped at 1.5 or 2 times the last count
 // left frames above the tolerance; 3 times did not (docs/tolerance.md).
 constexpr double kTolAimUp = 0.7, kTolAimDown = 0.7, kTolRise = 3.0;
 constexpr int kTolCalmSteps = 30;
-int substeps_for(int n, double strain, double aim, double power) {
-  const double k = std::ceil(double(n) * std::pow(std::max(strain, 0.0) / aim, 1 / power));
+int substeps_for(int n, double error, double aim, double power) {
+  const double k = std::ceil(double(n) * std::pow(std::max(error, 0.0) / aim, 1 / power));
   return k < 1e9 ? int(k) : 1000000000;
 }
 
@@ -315,7 +315,8 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
   xpbd::StepConfig cfg;
   cfg.dt = dt;
   // With a tolerance, the controller's count (SystemSettings::tolerance).
-  const bool target = set.tolerance.strain > 0;
+  const Tolerance& tol = set.tolerance;
+  const bool target = tol.on();
   if (target && s.tol_substeps <= 0) s.tol_substeps = std::clamp(set.substeps, 1, set.tolerance.max_substeps);
   int subs = target ? s.tol_substeps : set.substeps;
   // The most this step may take: kTolRise times the last step's count (a
@@ -349,7 +350,19 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
   // solved again starts from the bodies it had before.
   const std::size_t bodies_before = s.shadow_of_body.size();
   if (target) s.tol_saved = st;
-  double strain = 0;
+  // The step's error relative to the tolerance: the larger of its targets'
+  // measures over their tolerances (a state that is not finite is the
+  // health check's, not the controller's: it is not solved again for it).
+  double error = 0, depth = 0;
+  const auto measure = [&] {
+    double e = 0;
+    if (tol.strain > 0) e = double(xpbd::distance_strain(m, st).max) / tol.strain;
+    if (tol.penetration > 0) {
+      depth = double(xpbd::rigid::deepest_contact_violation(st));
+      e = std::max(e, depth / tol.penetration);
+    }
+    return e;
+  };
   for (;;) {
     cfg.substeps = subs;
     s.step_substeps = subs;
@@ -364,26 +377,25 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
     });
     xpbd::step(m, st, cfg);
     if (!target) break;
-    strain = double(xpbd::distance_strain(m, st).max);
-    if (!(strain > set.tolerance.strain) || subs >= cap) break;
+    error = measure();
+    if (!(error > 1) || subs >= cap) break;
     // Above the tolerance with substeps to spare: solve the step again.
-    subs = std::min(cap,
-                    std::max(subs + 1, substeps_for(subs, strain, kTolAimUp * set.tolerance.strain, 2)));
+    subs = std::min(cap, std::max(subs + 1, substeps_for(subs, error, kTolAimUp, 2)));
     st = s.tol_saved;
     s.shadow_of_body.resize(bodies_before);
     ++stats_.resolved;
   }
   s.health.substeps = subs;
-  s.health.tolerance_met = !target || !(strain > set.tolerance.strain);
+  s.health.tolerance_met = !target || !(error > 1);
+  s.health.penetration = depth;
   if (target) {
     if (!s.health.tolerance_met) ++stats_.tolerance_missed;
     // Downwards slowly: after kTolCalmSteps steps in a row at this count
-    // whose largest strain says fewer would do, by at most a fifth (at
+    // whose largest error says fewer would do, by at most a fifth (at
     // least one). The largest over the steps, not the last: a scene that
     // rings (a heavy end bouncing on its chain) has low and high steps.
-    s.tol_window_max = std::max(s.tol_window_max, strain);
-    const int need =
-        std::max(1, std::min(subs, substeps_for(subs, s.tol_window_max, kTolAimDown * set.tolerance.strain, 1)));
+    s.tol_window_max = std::max(s.tol_window_max, error);
+    const int need = std::max(1, std::min(subs, substeps_for(subs, s.tol_window_max, kTolAimDown, 1)));
     if (need >= subs) {
       s.tol_calm = 0;
       s.tol_window_max = 0;

@@ -201,7 +201,7 @@ struct XpbdWorld::System {
   // The tolerance's controller (SystemSettings::tolerance, world_contacts.cpp).
   int tol_substeps = 0;  // substeps for the next step (0: start from SystemSettings::substeps)
   int tol_calm = 0;      // steps in a row that could have taken fewer substeps
-  double tol_window_max = 0;  // largest strain over those steps
+  double tol_window_max = 0;  // largest error (relative to the tolerance) over those steps
   int step_substeps = 0;  // substeps of the step being solved (settings' or the tolerance's)
   xpbd::State tol_saved;  // the state before the solve, for solving the step again
 };

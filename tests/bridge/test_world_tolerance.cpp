@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -141,6 +142,13 @@ TEST(WorldTolerance, SettingsAreChecked) {
   set.tolerance.strain = 0.05;
   set.tolerance.max_substeps = 0;
   EXPECT_NE(message(set).find("SystemSettings.tolerance.max_substeps"), std::string::npos);
+  set.tolerance.max_substeps = 200;
+  set.tolerance.penetration = -1e-3;
+  EXPECT_NE(message(set).find("SystemSettings.tolerance.penetration"), std::string::npos);
+  set.tolerance.penetration = std::numeric_limits<double>::infinity();
+  EXPECT_NE(message(set).find("SystemSettings.tolerance.penetration"), std::string::npos);
+  set.tolerance.penetration = 1e-3;
+  EXPECT_EQ(message(set), "accepted");
 }
 
 }  // namespace

@@ -56,6 +56,25 @@ TEST(RunTolerance, EveryFrameWithinTheToleranceAfterTheFirst) {
   EXPECT_EQ(j.at("per_frame")[1].at("substeps"), *r.series[1].substeps);
 }
 
+// solver.penetration_tolerance alone turns the target on: the frames report
+// their substeps and metrics.json the target. The chain touches nothing, so
+// it meets the target at its starting count (it never has a contact).
+TEST(RunTolerance, PenetrationAloneIsATarget) {
+  SceneSpec spec = heavy_chain(0);
+  spec.solver.penetration_tolerance = 1e-3;
+  spec.solver.frames = 3;
+  const RunResult r = run_scene(spec, run_options(spec));
+  ASSERT_EQ(r.series.size(), 4u);
+  for (std::size_t k = 1; k < r.series.size(); ++k) {
+    ASSERT_TRUE(r.series[k].substeps.has_value());
+    EXPECT_EQ(*r.series[k].substeps, spec.solver.substeps);
+    EXPECT_TRUE(r.series[k].tolerance_met);
+  }
+  const nlohmann::json j = to_json(r);
+  EXPECT_EQ(j.at("tolerance").at("penetration"), 1e-3);
+  EXPECT_EQ(j.at("tolerance").at("strain"), 0);
+}
+
 TEST(RunTolerance, BulletSaysItDoesNotUseIt) {
   const SceneSpec spec = heavy_chain(0.05);
   RunOptions opt = run_options(spec);

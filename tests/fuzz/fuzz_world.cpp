@@ -148,6 +148,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
               set.direct_chains = in.ConsumeBool();
               set.chain_passes = in.ConsumeIntegralInRange<int>(0, 20);
               set.chain_tolerance = value(in, 0, 0.01f);
+              // The accuracy targets, kept cheap (at most 12 substeps).
+              set.tolerance.strain = in.ConsumeBool() ? 0 : double(value(in, 0, 0.2f));
+              set.tolerance.penetration = in.ConsumeBool() ? 0 : double(value(in, 0, 0.01f));
+              set.tolerance.max_substeps = in.ConsumeIntegralInRange<int>(0, 12);
               xw.set_settings(sys, set);
             }
             break;

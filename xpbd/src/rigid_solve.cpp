@@ -456,26 +456,42 @@ void world_contact_velocities(State& s, Real h) {
   }
 }
 
-Real worst_contact_violation(const Model& m, const State& s) {
-  (void)m;
-  Real worst = 0;
+namespace {
+// Calls f(C, thickness) for every body contact and rigid-feature-vs-triangle
+// contact of the state, C the contact constraint at the current positions.
+template <class F>
+void for_each_contact_constraint(const State& s, F&& f) {
   for (const BodyContact& c : s.contacts) {
     const RigidBody& b = body_or_world(s, c.body);
-    const Frame f = contact_frame(b, c, c.body < 0);
-    const Real C = f.n.dot(s.x[c.particle] - f.p) - c.thickness;
-    if (C < Real(0) && c.thickness > Real(0)) worst = std::max(worst, -C / c.thickness);
+    const Frame fr = contact_frame(b, c, c.body < 0);
+    f(fr.n.dot(s.x[c.particle] - fr.p) - c.thickness, c.thickness);
   }
   for (const BodyTriangleContact& c : s.triangle_contacts) {
     const RigidBody& b = body_or_world(s, c.body);
     const Vec3 q = c.body < 0 ? c.r : Vec3(b.x + b.q * c.r);
     Real C;
     Vec3 g[4];
-    if (!Penetration::point_triangle(q, s.x[c.tri[0]], s.x[c.tri[1]], s.x[c.tri[2]], c.side,
-                                     c.thickness, C, g))
-      continue;
-    if (C < Real(0) && c.thickness > Real(0)) worst = std::max(worst, -C / c.thickness);
+    if (Penetration::point_triangle(q, s.x[c.tri[0]], s.x[c.tri[1]], s.x[c.tri[2]], c.side, c.thickness, C, g))
+      f(C, c.thickness);
   }
+}
+}  // namespace
+
+Real worst_contact_violation(const Model& m, const State& s) {
+  (void)m;
+  Real worst = 0;
+  for_each_contact_constraint(s, [&](Real C, Real thickness) {
+    if (C < Real(0) && thickness > Real(0)) worst = std::max(worst, -C / thickness);
+  });
   return worst;
+}
+
+Real deepest_contact_violation(const State& s) {
+  Real deepest = 0;
+  for_each_contact_constraint(s, [&](Real C, Real) {
+    if (C < Real(0)) deepest = std::max(deepest, -C);
+  });
+  return deepest;
 }
 
 void update_body_velocities(std::vector<RigidBody>& bodies, Real h, Real blend) {

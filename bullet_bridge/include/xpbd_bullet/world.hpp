@@ -195,30 +195,40 @@ struct SystemTimes {
 
 // An accuracy target instead of a budget (SystemSettings::tolerance): the
 // system picks its substeps step by step so that its largest Distance strain
-// |len/rest - 1| after the step stays within `strain`, at the least count it
-// finds, within [1, max_substeps]. Rule (docs/tolerance.md):
-//   - after the step's solve (before Bullet's), the strain is measured (one
-//     pass over the Distance elements). Above the tolerance with substeps
-//     to spare, the step is solved again from its start (the state copied
-//     before the solve) with n' = max(n + 1, ceil(n sqrt(strain / (0.7
-//     tolerance)))): one sweep per substep leaves a strain that falls about
-//     as 1/n^2 (the h^2 term), aimed at 70 % of the tolerance. n' is capped
-//     at max_substeps and at 3 times the last step's count (a sudden rise
-//     turns the constraint error the step starts with into velocity at the
-//     shorter substep);
+// |len/rest - 1| after the step stays within `strain`, and its deepest
+// contact violation within `penetration`, at the least count it finds,
+// within [1, max_substeps]. Either or both may be set. Rule
+// (docs/tolerance.md), with e the larger of strain / tolerance.strain and
+// penetration / tolerance.penetration (the targets that are set):
+//   - after the step's solve (before Bullet's), e is measured: the strain
+//     with one pass over the Distance elements, the penetration with one
+//     pass over the step's contacts (how far a particle, or a rigid feature
+//     into a cloth triangle, is inside the contact band of its thickness:
+//     xpbd::rigid::deepest_contact_violation; a particle pressed between
+//     two bodies is where it stays inside). Above 1 with substeps to spare,
+//     the step is solved again from its start (the state copied before the
+//     solve) with n' = max(n + 1, ceil(n sqrt(e / 0.7))): one sweep per
+//     substep leaves an error that falls about as 1/n^2 (the h^2 term),
+//     aimed at 70 % of the tolerance. n' is capped at max_substeps and at 3
+//     times the last step's count (a sudden rise turns the constraint error
+//     the step starts with into velocity at the shorter substep);
 //   - at the cap above the tolerance, the step is kept and reported
 //     (SystemHealth::tolerance_met = false, StepStats::tolerance_missed);
 //   - downwards, only after 30 steps in a row (0.5 s at 60 Hz) at one count
-//     whose largest strain says fewer would reach 70 % of the tolerance
-//     (taking the strain as 1/n, a cautious guess): then by at most a fifth
-//     (at least one), never below that guess. So the count rises at once
-//     and falls slowly, without going back and forth.
+//     whose largest e says fewer would reach 70 % of the tolerance (taking
+//     e as 1/n, a cautious guess): then by at most a fifth (at least one),
+//     never below that guess. So the count rises at once and falls slowly,
+//     without going back and forth.
 // The strain from the compliance itself (a link at compliance alpha carrying
-// a force F stretches by alpha F) does not fall with substeps: a tolerance
-// below it is reported as missed at max_substeps.
+// a force F stretches by alpha F) does not fall with substeps, nor does a
+// contact's overlap at its compliance: a tolerance below them is reported as
+// missed at max_substeps.
 struct Tolerance {
-  double strain = 0;       // 1, > 0 turns the target on; 0 = off (SystemSettings::substeps fixed)
+  double strain = 0;       // 1, > 0 turns the strain target on; 0 = off
+  double penetration = 0;  // m, > 0 turns the contact target on; 0 = off
   int max_substeps = 200;  // >= 1: the most substeps the system may take in one step
+  // With neither target on, SystemSettings::substeps is fixed.
+  bool on() const { return strain > 0 || penetration > 0; }
 };
 
 struct SystemSettings {
@@ -359,6 +369,9 @@ struct SystemHealth {
   // one).
   int substeps = 0;
   bool tolerance_met = true;
+  // m, with Tolerance::penetration set: the deepest contact violation after
+  // the step's solve (xpbd::rigid::deepest_contact_violation); 0 otherwise.
+  double penetration = 0;
 };
 
 // Typed ids: a system's id and an attachment's id cannot be mixed up (nor

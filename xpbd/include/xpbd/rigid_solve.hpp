@@ -46,6 +46,11 @@ void world_contact_velocities(State& s, Real h);
 // -C / thickness, where C >= 0 is the contact constraint (0 when every
 // contact holds, 1 when a particle centre is on the body's surface).
 Real worst_contact_violation(const Model& m, const State& s);
+// The same contacts' deepest violation in metres: max over contacts of -C
+// (how far a particle, or a rigid feature, is inside the contact band of
+// its thickness; 0 when every contact holds). A contact is measured against
+// its body's pose in the state, so after a step: at the step's end.
+Real deepest_contact_violation(const State& s);
 
 // Adds the substep's position impulses of the particle contacts over h to
 // State::body_contact_impulse (after the solve, before the velocity stage).
