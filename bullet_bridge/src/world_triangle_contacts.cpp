@@ -170,20 +170,34 @@ void XpbdWorld::find_triangle_contacts(System& s, btScalar dt, const Vec3& lo, c
     centres.clear();
     const btCollisionShape& shape = *obj->getCollisionShape();
     detail::collect_features(shape, btTransform::getIdentity(), cs.feature_spacing, features_, true, &centres);
-    if (features_.empty() && obj->isStaticObject() && is_triangle_mesh(shape)) {
-      // A static triangle mesh: the sharp edges and corners of its
-      // triangles within the system's box (in the mesh's frame).
-      const btTransform inv = obj->getWorldTransform().inverse();
+    const bool mesh = features_.empty() && obj->isStaticOrKinematicObject() && is_triangle_mesh(shape);
+    if (mesh) {
+      // A static or kinematic triangle mesh: the sharp edges and corners of
+      // its triangles within the system's box, in the mesh's frame. A
+      // kinematic mesh moves over the step (from its shadow's start to the
+      // pose Bullet has put it at): the box is taken in its frame at both
+      // ends, grown by how far its rotation can carry a corner in between.
+      const Shadow& sh = shadows_[shadow_for(obj, dt)];
       Vec3 llo = Vec3::Constant(std::numeric_limits<Real>::max()), lhi = -llo;
-      for (int c = 0; c < 8; ++c) {
-        const Vec3 corner((c & 1) ? hi.x() : lo.x(), (c & 2) ? hi.y() : lo.y(), (c & 4) ? hi.z() : lo.z());
-        const Vec3 q = to_vec(inv * to_bt(corner));
-        llo = llo.cwiseMin(q);
-        lhi = lhi.cwiseMax(q);
+      Real reach = 0;  // m, the farthest corner from the mesh's origin
+      for (const btTransform& at : {sh.start, sh.pose}) {
+        const btTransform inv = at.inverse();
+        for (int c = 0; c < 8; ++c) {
+          const Vec3 corner((c & 1) ? hi.x() : lo.x(), (c & 2) ? hi.y() : lo.y(), (c & 4) ? hi.z() : lo.z());
+          const Vec3 q = to_vec(inv * to_bt(corner));
+          llo = llo.cwiseMin(q);
+          lhi = lhi.cwiseMax(q);
+          reach = std::max(reach, q.norm());
+        }
       }
+      const Real pad = dt * sh.w.norm() * reach;
+      llo.array() -= pad;
+      lhi.array() += pad;
       detail::collect_mesh_features(static_cast<const btConcaveShape&>(shape), llo, lhi, cs.feature_spacing,
                                     mesh_tris, features_);
-      centres.assign(features_.size(), Vec3::Zero());
+      // A mesh has no inside to take a side from (a fast feature found over
+      // a triangle keeps its own side; see try_triangle).
+      centres.assign(features_.size(), Vec3::Constant(std::numeric_limits<Real>::quiet_NaN()));
     }
     if (features_.empty()) continue;
     const int shi = shadow_for(obj, dt);
@@ -273,7 +287,7 @@ void XpbdWorld::find_triangle_contacts(System& s, btScalar dt, const Vec3& lo, c
       for (Index p : tri) move = std::max(move, dt * ((st.v[p] - vb).norm() + ab));
       Real side = dist >= Real(0) ? Real(1) : Real(-1);
       bool swept = false;
-      if (over && path != nullptr && std::abs(dist) <= thick) {
+      if (over && path != nullptr && std::abs(dist) <= thick && centre.allFinite()) {
         // A fast feature found over the triangle, near it: it belongs on the
         // side of its shape's centre. On the other side it has gone through
         // (a thin blade's edge through a cloth it sweeps under), and the
