@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 #include <vector>
@@ -50,13 +51,15 @@ struct Swing {
   std::vector<double> strains;  // largest strain after each step
 };
 
-Swing swing(double tolerance, int max_substeps, int steps, const Vec3& dir = Vec3::UnitX()) {
+Swing swing(double tolerance, int max_substeps, int steps, const Vec3& dir = Vec3::UnitX(),
+            xpbd::Method method = xpbd::Method::xpbd) {
   BulletWorld bw;
   XpbdWorld xw(bw.world());
   System s = heavy_chain(dir);
   SystemSettings set;
   set.tolerance.strain = tolerance;
   set.tolerance.max_substeps = max_substeps;
+  set.method = method;
   const auto id = xw.add_system(s.model, s.state, set);
   Swing r;
   for (int k = 0; k < steps; ++k) {
@@ -90,6 +93,22 @@ TEST(WorldTolerance, SwingingHeavyChainStaysWithinTheTolerance) {
   EXPECT_GT(r.most, 10);
   EXPECT_LT(r.most, 400);
   EXPECT_GT(r.resolved, 0);
+}
+
+// The same with PBD (Algorithm 1, stiffness 1): the controller measures
+// the strain the same way, and PBD's links, which converge to their rest
+// length, come within it too.
+TEST(WorldTolerance, PbdChainStaysWithinTheTolerance) {
+  const Swing fixed = swing(0, 200, 60, Vec3::UnitX(), xpbd::Method::pbd);
+  ASSERT_GT(fixed.worst, 0.05) << "the PBD chain does not need more than the default";
+  const Swing r = swing(0.05, 400, 60, Vec3::UnitX(), xpbd::Method::pbd);
+  std::printf("PBD chain: fixed 10 x 1 largest strain %.3g; tolerance 5 %%: %.3g, most %d substeps, %d steps solved "
+              "again\n",
+              fixed.worst, r.worst, r.most, r.resolved);
+  EXPECT_LE(r.worst, 0.05);
+  EXPECT_EQ(r.missed, 0);
+  EXPECT_GT(r.most, 10);
+  EXPECT_LT(r.most, 400);
 }
 
 // With at most 11 substeps the same chain cannot be held: the steps above
