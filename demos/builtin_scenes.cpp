@@ -456,8 +456,8 @@ SceneSpec heavy_rope() {
   s.solver.direct_chains = true;
   // The tolerance controller starts at 4 substeps: it rises at once where
   // the rope whips and falls slowly (docs/tolerance.md), so a start above
-  // what the calm parts need is paid for 30 steps per fifth. Measured: a
-  // mean of 4.47 substeps from 4, 7.24 from the library's 10.
+  // what the calm parts need is paid for 15 steps per fifth. Measured: a
+  // mean of 4.16 substeps from 4, 5.61 from the library's 10.
   s.solver.substeps = 4;
   s.solver.tolerance = 0.05;
   s.solver.max_substeps = 400;

@@ -214,7 +214,7 @@ struct SystemTimes {
 //     the step starts with into velocity at the shorter substep);
 //   - at the cap above the tolerance, the step is kept and reported
 //     (SystemHealth::tolerance_met = false, StepStats::tolerance_missed);
-//   - downwards, only after 30 steps in a row (0.5 s at 60 Hz) at one count
+//   - downwards, only after 15 steps in a row (0.25 s at 60 Hz) at one count
 //     whose largest e says fewer would reach 70 % of the tolerance (taking
 //     e as 1/n, a cautious guess): then by at most a fifth (at least one),
 //     never below that guess. So the count rises at once and falls slowly,
