@@ -93,6 +93,23 @@ void add_random_bodies(BulletWorld& bw, int bodies, unsigned seed = 12345) {
   }
 }
 
+// The 24 x 24 cloth with its top edge along the bar's bottom face, added to
+// xw with `set` and attached to the bar at three particles.
+xpbd_bullet::SystemId add_cloth(XpbdWorld& xw, btRigidBody* bar, const SystemSettings& set) {
+  xpbd::SceneDesc scene;
+  xpbd::ClothGridDesc c;
+  c.nx = c.ny = kN;
+  c.size_u = c.size_v = 1;
+  c.mass = kClothMass;
+  c.origin = kBarStart + Vec3(-0.5, -kBarHalf.y(), 0);
+  const xpbd::ClothGrid grid = xpbd::add_cloth_grid(scene, c);
+  System sys = make_system(scene);
+  const auto id = xw.add_system(sys.model, sys.state, set);
+  for (int i : {0, kN / 2, kN - 1})
+    xw.attach(id, grid.first + i, bar, bt(sys.model->x0[std::size_t(grid.first + i)] - kBarStart));
+  return id;
+}
+
 // after_solve = false turns off what answers Bullet's own contacts moving
 // the bodies after XPBD ran (ContactSettings::settle and spacers).
 Result run(int bodies, bool cloth, int contact_sweeps = 0, bool after_solve = true) {
@@ -101,25 +118,11 @@ Result run(int bodies, bool cloth, int contact_sweeps = 0, bool after_solve = tr
   btRigidBody* bar = bw.add_body(new btBoxShape(bt(kBarHalf)), kBarMass, BulletWorld::at(kBarStart));
   add_random_bodies(bw, bodies);
   XpbdWorld xw(bw.world());
-  xpbd::SceneDesc scene;
-  xpbd::ClothGridDesc c;
-  c.nx = c.ny = kN;
-  c.size_u = c.size_v = 1;
-  c.mass = kClothMass;
-  c.origin = kBarStart + Vec3(-0.5, -kBarHalf.y(), 0);  // top edge along the bar's bottom face
-  const xpbd::ClothGrid grid = xpbd::add_cloth_grid(scene, c);
-  System sys = make_system(scene);
   SystemSettings set;  // the defaults, but for contact_sweeps
   set.contact_sweeps = contact_sweeps;
   set.contacts.settle = set.contacts.spacers = after_solve;
   xpbd_bullet::SystemId id;
-  if (cloth) {
-    id = xw.add_system(sys.model, sys.state, set);
-    for (int i : {0, kN / 2, kN - 1}) {
-      const Vec3 p = sys.model->x0[std::size_t(grid.first + i)];
-      xw.attach(id, grid.first + i, bar, bt(p - kBarStart));
-    }
-  }
+  if (cloth) id = add_cloth(xw, bar, set);
   Result r;
   r.sweeps_per_step = 0;
   std::vector<const btCollisionObject*> near;
@@ -256,20 +259,10 @@ TEST(SqueezeTolerance, StepSolvedAgainAfterARefreshStartsFromItsOwnBodies) {
   btRigidBody* bar = bw.add_body(new btBoxShape(bt(kBarHalf)), kBarMass, BulletWorld::at(kBarStart));
   add_random_bodies(bw, 49, 2);
   XpbdWorld xw(bw.world());
-  xpbd::SceneDesc scene;
-  xpbd::ClothGridDesc c;
-  c.nx = c.ny = kN;
-  c.size_u = c.size_v = 1;
-  c.mass = kClothMass;
-  c.origin = kBarStart + Vec3(-0.5, -kBarHalf.y(), 0);
-  const xpbd::ClothGrid grid = xpbd::add_cloth_grid(scene, c);
-  System sys = make_system(scene);
   SystemSettings set;
   set.tolerance.strain = 0.2;
   set.tolerance.max_substeps = 50;
-  const auto id = xw.add_system(sys.model, sys.state, set);
-  for (int i : {0, kN / 2, kN - 1})
-    xw.attach(id, grid.first + i, bar, bt(sys.model->x0[std::size_t(grid.first + i)] - kBarStart));
+  const auto id = add_cloth(xw, bar, set);
   int both = 0;
   for (int f = 0; f < 60; ++f) {
     bw.step();
