@@ -7,6 +7,7 @@
 #include <limits>
 #include <string>
 
+#include "xpbd/rigid_solve.hpp"
 #include "xpbd/xpbd.hpp"
 
 namespace {
@@ -185,6 +186,64 @@ TEST(RigidSolve, NonFiniteBodyAccelerationIsAConfigError) {
   } catch (const xpbd::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("state.bodies[0]"), std::string::npos) << e.what();
   }
+}
+
+}  // namespace
+
+namespace {
+
+// The contact violation measures (rigid_solve.hpp), on hand-placed
+// contacts with known geometry: a particle 2 mm above the ground with a
+// 5 mm thickness is 3 mm inside its band; one 7 mm above a rotated,
+// translated body's face at 5 mm is not inside it; a rigid feature 1 mm
+// from a cloth triangle's plane, on its side, with 5 mm is 4 mm inside.
+TEST(RigidSolve, ContactViolationsAreTheDepthsInsideTheBand) {
+  xpbd::SceneDesc scene;
+  scene.add_particle(Vec3(0.1, 0.002, 0), Real(1));  // 0: above the ground
+  scene.add_particle(Vec3(0, 0, 0), Real(1));        // 1: beside the body, set below
+  scene.add_particle(Vec3(0, 1, 0), Real(1));        // 2-4: a triangle in the plane y = 1
+  scene.add_particle(Vec3(1, 1, 0), Real(1));
+  scene.add_particle(Vec3(0, 1, 1), Real(1));
+  const xpbd::Model m = xpbd::compile(scene);
+  xpbd::State s = xpbd::make_state(m);
+  EXPECT_EQ(xpbd::rigid::deepest_contact_violation(s), Real(0));  // no contacts
+
+  xpbd::BodyContact ground;  // the world plane y = 0, normal +y
+  ground.particle = 0;
+  ground.body = -1;
+  ground.thickness = Real(0.005);
+  s.contacts.push_back(ground);
+
+  xpbd::RigidBody b;  // a body turned 90 degrees about z: its local +x face normal is world +y
+  b.x = Vec3(0, -0.5, 0);
+  b.q = xpbd::Quat(Eigen::AngleAxis<Real>(Real(1.5707963267948966), Vec3::UnitZ()));
+  s.bodies.push_back(b);
+  xpbd::BodyContact face;
+  face.particle = 1;
+  face.body = 0;
+  face.r = Vec3(0.5, 0, 0);  // world (0, 0, 0)
+  face.n = Vec3(1, 0, 0);    // world +y
+  face.thickness = Real(0.005);
+  s.x[1] = Vec3(0.2, 0.007, 0);
+  s.contacts.push_back(face);
+
+  xpbd::BodyTriangleContact tri;  // a world feature point 1 mm above the triangle, on its upper side
+  tri.tri = {2, 4, 3};             // (x4 - x2) x (x3 - x2) = (0, 0, 1) x (1, 0, 0) = +y
+  tri.body = -1;
+  tri.r = Vec3(0.2, 1.001, 0.2);
+  tri.side = 1;
+  tri.thickness = Real(0.005);
+  s.triangle_contacts.push_back(tri);
+
+  const double tol = 1e3 * std::numeric_limits<Real>::epsilon();
+  EXPECT_NEAR(double(xpbd::rigid::deepest_contact_violation(s)), 0.004, tol);
+  EXPECT_NEAR(double(xpbd::rigid::worst_contact_violation(m, s)), 0.004 / 0.005, 2 * tol / 0.005);
+  s.triangle_contacts.clear();
+  EXPECT_NEAR(double(xpbd::rigid::deepest_contact_violation(s)), 0.003, tol);
+  EXPECT_NEAR(double(xpbd::rigid::worst_contact_violation(m, s)), 0.003 / 0.005, 2 * tol / 0.005);
+  s.x[0].y() = Real(0.01);  // out of its band: nothing inside any more
+  EXPECT_EQ(xpbd::rigid::deepest_contact_violation(s), Real(0));
+  EXPECT_EQ(xpbd::rigid::worst_contact_violation(m, s), Real(0));
 }
 
 }  // namespace
