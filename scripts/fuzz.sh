@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The fuzz targets of tests/fuzz (docs/reliability.md):
-#   fuzz_scene_file  a scene file through parsing, validation and 2 frames
+#   fuzz_scene_file  a scene file through parsing, validation and 1-2 frames
 #   fuzz_obj         the OBJ reader
 #   fuzz_world       the embedding API driven by a byte stream
 #
