@@ -80,9 +80,9 @@ TEST(RunTolerance, PenetrationAloneIsATarget) {
 // The built-in scene with a penetration target (a 1000 kg box dropped onto
 // a 0.4 kg cloth lying on the ground): the runner's own depth measure
 // (max_penetration, from the positions against every body, docs/metrics.md)
-// stays within 1 mm in every frame and no frame is reported above it (in
-// double; in float a frame measured above it must be reported); the fixed
-// default budget goes deeper. 60 frames: the box lands at about frame 12.
+// stays within 1 mm in every frame and no frame is reported above it (a
+// frame measured above it would have to be reported); the fixed default
+// budget goes deeper. 60 frames: the box lands at about frame 12.
 TEST(RunTolerance, HeavyBoxOnClothStaysWithinItsPenetrationTarget) {
   const SceneSpec* builtin = find_builtin_scene("heavy_box_on_cloth");
   ASSERT_NE(builtin, nullptr);
@@ -107,9 +107,6 @@ TEST(RunTolerance, HeavyBoxOnClothStaysWithinItsPenetrationTarget) {
   }
   EXPECT_EQ(r.frames_tolerance_missed, missed);
   EXPECT_GT(r.max_substeps_used, spec.solver.substeps);
-  // The float build does not resolve this mass ratio (docs/tolerance.md):
-  // there only the reports are checked.
-  if (sizeof(Real) < sizeof(double)) return;
   EXPECT_EQ(missed, 0);
   for (std::size_t k = 1; k < r.series.size(); ++k) EXPECT_LE(r.series[k].max_penetration, target) << "frame " << k;
 }

@@ -247,3 +247,52 @@ TEST(RigidSolve, ContactViolationsAreTheDepthsInsideTheBand) {
 }
 
 }  // namespace
+
+namespace {
+
+// A light particle pressed between the static ground and a body 1e7 times
+// heavier (a cloth under a heavy box): its two contacts are solved jointly,
+// so the particle is a rigid spacer held by the ground and the body takes
+// the whole correction. The body's face starts 1 mm inside the particle's
+// band; after one substep without gravity the body has risen by exactly
+// that 1 mm and the particle has not moved. In every build: the float
+// build's joint solve once lost the mass ratio to cancellation (the
+// body then rose by 1e-7 mm and the particle went into the ground).
+TEST(RigidSolve, ParticleBetweenGroundAndAHeavyBodyIsARigidSpacer) {
+  const Real t = Real(0.005);  // m, thickness of both contacts
+  xpbd::SceneDesc scene;
+  scene.add_particle(Vec3(0, t, 0), Real(1e-3));  // resting on the ground's band
+  const xpbd::Model m = xpbd::compile(scene);
+  xpbd::State s = xpbd::make_state(m);
+  xpbd::RigidBody b;  // 1e4 kg, its bottom face 0.05 m below its centre, 1 mm inside the band
+  b.x = Vec3(0, 2 * t - Real(0.001) + Real(0.05), 0);
+  b.inv_mass = Real(1e-4);
+  b.inv_inertia = Vec3(1e-3, 1e-3, 1e-3);
+  s.bodies.push_back(b);
+  xpbd::BodyContact ground;  // the world plane y = 0, normal +y
+  ground.particle = 0;
+  ground.body = -1;
+  ground.thickness = t;
+  xpbd::BodyContact face;  // the body's bottom face, normal -y, straight under the centre
+  face.particle = 0;
+  face.body = 0;
+  face.r = Vec3(0, -0.05, 0);
+  face.n = Vec3(0, -1, 0);
+  face.thickness = t;
+  s.contacts = {ground, face};
+  xpbd::StepConfig cfg;
+  cfg.gravity.setZero();
+  cfg.substeps = 1;
+  cfg.dt = Real(1) / 60;
+  xpbd::step(m, s, cfg);
+  // Round-off: the positions (about 0.06 m) in the build's scalar, and the
+  // joint solve's cancellation, in double: about the mass ratio (1e7) times
+  // double's epsilon, relative to the 1 mm correction. A solve that loses
+  // the ratio is off by up to the whole millimetre.
+  const double tol = 64 * 0.06 * std::numeric_limits<Real>::epsilon() +
+                     16 * 1e-3 * 1e7 * std::numeric_limits<double>::epsilon();
+  EXPECT_NEAR(double(s.x[0].y()), double(t), tol);
+  EXPECT_NEAR(double(s.bodies[0].x.y()), 2 * double(t) + 0.05, tol);
+}
+
+}  // namespace
