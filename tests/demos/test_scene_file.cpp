@@ -469,6 +469,27 @@ TEST(SceneFile, HandRoundedQuaternionIsNormalised) {
 // Errors of generated elements are traced back to their generator, errors
 // of explicit ones to the element.
 
+// The limit on tether lengths counts what the builder computes: a cloth
+// pinned along its 1000-particle top edge asks for 1000 x 32000 straight
+// lines with euclidean tethers (refused, naming the field), but for one
+// search from all pins with geodesic ones (accepted: one tether per movable
+// particle).
+TEST(SceneFile, TetherLengthLimitCountsOneSearchForGeodesicNearest) {
+  json j = json::parse(R"({"soft": {"generators": [{"cloth": {"nx": 1000, "ny": 32, "pins": "top_edge",
+      "tethers": "nearest_pinned", "tether_metric": "euclidean"}}]}})");
+  try {
+    (void)parse_scene(j, "banner.json", ".");
+    ADD_FAILURE() << "no error";
+  } catch (const SceneFileError& e) {
+    EXPECT_EQ(e.json_path(), "/soft/generators/0/cloth/tethers") << e.what();
+    EXPECT_NE(e.reason().find("32000000 tether lengths"), std::string::npos) << e.what();
+  }
+  j["soft"]["generators"][0]["cloth"]["tether_metric"] = "geodesic";
+  const SceneSpec spec = parse_scene(j, "banner.json", ".");
+  const ExpandedSoft soft = expand(spec.soft, spec.base_dir);
+  EXPECT_EQ(soft.scene.tethers.size(), std::size_t(1000 * 32 - 1000));
+}
+
 TEST(SceneFile, CompileErrorOfAGeneratedElementNamesTheGenerator) {
   ScratchDir tmp;
   // Vertices 1 and 4 coincide, and face 2 uses both: a zero-length edge,

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <limits>
 #include <set>
 #include <string>
 
@@ -566,6 +567,46 @@ TEST(BuildersMesh, ErrorsNameTheMeshAndTheVertices) {
   EXPECT_TRUE(throws_naming([&] { add_triangle_mesh(s, bad, d); },
                             {"sheet.obj", "edge (1, 3)", "3 triangles", "non-manifold"}));
   EXPECT_EQ(s.num_particles(), 0);
+}
+
+// Geodesic nearest_pinned tethers come from one search from all pins at
+// once. Reference: a search from each pin alone (edge_path_distances) over
+// the cloth's triangle edges, collected here from its triangles. Every
+// tether's length is the smallest of those, exactly (the same sums), and
+// its anchor is a pin at that distance. A cloth with unequal spacings in u
+// and v and pins scattered inside it, so the paths are not symmetric.
+TEST(BuildersCloth, GeodesicNearestPinnedTethersAreTheShortestPathFromAnyPin) {
+  SceneDesc s;
+  s.add_particle(Vec3(5, 5, 5), 1);  // the cloth does not start at index 0
+  ClothGridDesc d;
+  d.nx = 13;
+  d.ny = 9;
+  d.size_u = Real(1.3);
+  d.size_v = Real(0.7);
+  d.pins = ClothPins::none;
+  d.pinned = {{0, 0}, {12, 8}, {5, 4}, {9, 1}, {2, 7}};
+  d.tethers = TetherAnchors::nearest_pinned;
+  d.tether_metric = TetherMetric::geodesic;
+  const ClothGrid g = add_cloth_grid(s, d);
+  std::set<std::array<Index, 2>> unique;
+  for (const Triangle& t : g.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const Index a = t[std::size_t(k)], b = t[std::size_t((k + 1) % 3)];
+      unique.insert({std::min(a, b), std::max(a, b)});
+    }
+  const std::vector<std::array<Index, 2>> edges(unique.begin(), unique.end());
+  std::vector<std::vector<Real>> from;
+  for (const Index p : g.pinned) from.push_back(edge_path_distances(s.positions, edges, p));
+  ASSERT_EQ(int(s.tethers.size()), d.nx * d.ny - int(g.pinned.size()));
+  for (const TetherDesc& t : s.tethers) {
+    Real best = std::numeric_limits<Real>::infinity();
+    for (const auto& f : from) best = std::min(best, f[std::size_t(t.particle)]);
+    ASSERT_TRUE(t.length.has_value());
+    EXPECT_EQ(*t.length, best) << "particle " << t.particle;
+    const auto a = std::find(g.pinned.begin(), g.pinned.end(), t.anchor);
+    ASSERT_NE(a, g.pinned.end()) << "particle " << t.particle;
+    EXPECT_EQ(from[std::size_t(a - g.pinned.begin())][std::size_t(t.particle)], best) << "particle " << t.particle;
+  }
 }
 
 // ---------------------------------------------------------------------------

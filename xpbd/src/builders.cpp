@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string>
 
+#include "edge_paths.hpp"
 #include "xpbd/error.hpp"
 
 namespace xpbd {
@@ -112,44 +113,6 @@ std::vector<std::array<Index, 4>> mesh_hinges(const std::vector<Triangle>& tris,
     i = j;
   }
   return out;
-}
-
-std::vector<Real> edge_path_distances(const std::vector<Vec3>& x,
-                                      const std::vector<std::array<Index, 2>>& edges,
-                                      Index source) {
-  const std::size_t n = x.size();
-  // Adjacency in compressed rows: neighbours of v in nbr[start[v], start[v+1]).
-  std::vector<std::size_t> start(n + 1, 0);
-  for (const auto& e : edges) {
-    ++start[std::size_t(e[0]) + 1];
-    ++start[std::size_t(e[1]) + 1];
-  }
-  for (std::size_t v = 0; v < n; ++v) start[v + 1] += start[v];
-  std::vector<Index> nbr(start[n]);
-  std::vector<std::size_t> fill(start.begin(), start.end() - 1);
-  for (const auto& e : edges) {
-    nbr[fill[std::size_t(e[0])]++] = e[1];
-    nbr[fill[std::size_t(e[1])]++] = e[0];
-  }
-  std::vector<Real> dist(n, std::numeric_limits<Real>::infinity());
-  using Item = std::pair<Real, Index>;  // (distance, vertex), smallest first
-  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
-  dist[std::size_t(source)] = 0;
-  queue.push({Real(0), source});
-  while (!queue.empty()) {
-    const auto [d, v] = queue.top();
-    queue.pop();
-    if (d > dist[std::size_t(v)]) continue;  // stale entry
-    for (std::size_t k = start[std::size_t(v)]; k < start[std::size_t(v) + 1]; ++k) {
-      const Index w = nbr[k];
-      const Real dw = d + (x[std::size_t(w)] - x[std::size_t(v)]).norm();
-      if (dw < dist[std::size_t(w)]) {
-        dist[std::size_t(w)] = dw;
-        queue.push({dw, w});
-      }
-    }
-  }
-  return dist;
 }
 
 // ---------------------------------------------------------------------------
@@ -307,6 +270,14 @@ ClothGrid add_cloth_grid(SceneDesc& s, const ClothGridDesc& d) {
       for (std::size_t k = 0; k < movable.size(); ++k)
         for (std::size_t a = 0; a < pins; ++a)
           s.tethers.push_back(TetherDesc{g.first + Index(movable[k]), g.pinned[a], length[k * pins + a], d.tether_mat});
+    } else if (d.tether_metric == TetherMetric::geodesic) {
+      // The nearest anchor along the edges: one search from all of them
+      // (edge_paths.hpp; ties: the first, i.e. the lowest index).
+      const detail::NearestAnchors na = detail::nearest_anchor_paths(s.positions, tri_edges, g.pinned);
+      for (const std::size_t v : movable) {
+        const std::size_t gv = std::size_t(g.first) + v;
+        s.tethers.push_back(TetherDesc{Index(gv), g.pinned[std::size_t(na.anchor[gv])], na.distance[gv], d.tether_mat});
+      }
     } else {
       // The nearest anchor (ties: the first, i.e. the lowest index).
       std::vector<Real> best_length(movable.size());
