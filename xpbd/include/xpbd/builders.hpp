@@ -56,7 +56,9 @@ enum class TetherAnchors {
   none,
   all_pinned,      // one tether per (movable particle, pinned particle)
   nearest_pinned,  // one tether per movable particle, to the nearest pinned
-                   // particle by tether_metric (ties: lowest index)
+                   // particle by tether_metric (ties: lowest index; a
+                   // geodesic tie made only by round-off may keep the pin
+                   // that was nearer along the way)
 };
 enum class TetherMetric {
   euclidean,  // length = straight-line distance in the initial positions
