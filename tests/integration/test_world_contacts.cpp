@@ -13,6 +13,7 @@
 #include <memory>
 #include <vector>
 
+#include "fits.hpp"
 #include "support.hpp"
 
 namespace {

@@ -17,6 +17,7 @@
 #include <memory>
 #include <vector>
 
+#include "fits.hpp"
 #include "support.hpp"
 
 namespace {
