@@ -32,14 +32,15 @@ fi
 case "$variant" in
   double) flags=(-DCMAKE_BUILD_TYPE=Release -DXPBD_DOUBLE=ON) ;;
   # float: the closed-form validation tests are set for double and not
-  # run in float (scripts/test.sh), so not built.
-  float)  flags=(-DCMAKE_BUILD_TYPE=Release -DXPBD_DOUBLE=OFF -DXPBD_BUILD_BENCHMARKS=OFF
+  # run in float (scripts/test.sh), so not built; nor are the benchmarks and
+  # the tools (xpbd-fig5, xpbd-compare), which no test runs.
+  float)  flags=(-DCMAKE_BUILD_TYPE=Release -DXPBD_DOUBLE=OFF -DXPBD_BUILD_BENCHMARKS=OFF -DXPBD_BUILD_TOOLS=OFF
                  "-DXPBD_TEST_LABELS=unit;bridge;integration;demos") ;;
   # asan: -O1 with line tables only (-g1: file and line in the reports, a
   # fraction of full debug information's compile time), and the labels
   # scripts/test.sh runs under the sanitizers (not the integration tests).
   asan)   flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG"
-                 -DXPBD_DOUBLE=ON -DXPBD_SANITIZE=ON -DXPBD_BUILD_BENCHMARKS=OFF
+                 -DXPBD_DOUBLE=ON -DXPBD_SANITIZE=ON -DXPBD_BUILD_BENCHMARKS=OFF -DXPBD_BUILD_TOOLS=OFF
                  "-DXPBD_TEST_LABELS=unit;validation;bridge;demos") ;;
   *) echo "setup: unknown variant '$variant' (double|float|asan)" >&2; exit 2 ;;
 esac
