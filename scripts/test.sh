@@ -9,24 +9,35 @@
 #     the runner, exports)
 #   - when clang is installed: each fuzz target of tests/fuzz for 2000
 #     executions (scripts/fuzz.sh; docs/reliability.md has the campaign)
+# Each stage prints its wall time when it ends ("test: <stage> passed in N s").
 # Exits non-zero on any build or test failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs="$(nproc)"
+stage_start=$SECONDS
+passed() {
+  echo "test: $1 passed in $((SECONDS - stage_start)) s (total $SECONDS s)"
+  stage_start=$SECONDS
+}
 
 scripts/setup.sh double
 ctest --test-dir build/double --output-on-failure -j"$jobs"
+passed "double build and tests"
 
 scripts/setup.sh float
 ctest --test-dir build/float --output-on-failure -j"$jobs" -L 'unit|bridge|integration|demos'
+passed "float build and tests"
 scripts/consumer_test.sh build/double build/float
+passed "installed package"
 
 scripts/setup.sh asan
 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
   ctest --test-dir build/asan --output-on-failure -j"$jobs" -L 'unit|validation|bridge|demos'
+passed "ASan/UBSan build and tests"
 
 if command -v clang++ >/dev/null; then
   scripts/fuzz.sh 2000
+  passed "fuzz build and runs"
 else
   echo "test: clang++ not installed: the fuzz targets were not run (scripts/fuzz.sh)"
 fi
