@@ -146,7 +146,10 @@ CatenaryEquilibrium catenary_equilibrium(const CatenaryParams& p) {
     return std::hypot(s.end_x - pl.D, s.end_y - pl.h);
   };
 
-  auto [H, V0] = initial_guess(p, pl);
+  // Not a structured binding: the lambda below reads H and V0, and clang 14
+  // (the sanitizer build) cannot capture structured bindings.
+  const auto guess = initial_guess(p, pl);
+  double H = guess[0], V0 = guess[1];
   Shape s;
   double res = residual(H, V0, &s);
   // Scale of the round-off: the summed link lengths (the stretched length,
