@@ -62,8 +62,11 @@ TEST(WorldFeatureCap, AtMostSixteenTriangleContactsPerFeature) {
   EXPECT_EQ(stats.triangle_contacts, static_cast<int>(contacts.size()));
   // Every top corner and top edge point is under every layer: at least 20
   // candidates each, so each one keeps exactly 16.
-  for (const auto& [r, n] : per_feature)
-    if (std::get<1>(r) > Real(0.09)) EXPECT_EQ(n, 16);
+  for (const auto& [r, n] : per_feature) {
+    if (std::get<1>(r) > Real(0.09)) {
+      EXPECT_EQ(n, 16);
+    }
+  }
 }
 
 }  // namespace
