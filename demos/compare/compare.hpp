@@ -206,7 +206,7 @@ const char* csv_header();
 std::string to_csv(const Row& r);
 // One CSV field: as is, or in double quotes (inner quotes doubled, newlines
 // made spaces) if it holds a comma, quote or newline; split_csv undoes it.
-// (Also used by the stability map's CSV, stability.cpp.)
+// (Also used by the stability map's CSV, stability_cmd.cpp.)
 std::string quote(const std::string& s);
 std::vector<std::string> split_csv(const std::string& line);
 // Parses a file written by to_csv (header first). Throws std::runtime_error

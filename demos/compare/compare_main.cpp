@@ -8,7 +8,7 @@
 //   xpbd-compare stability run|merge|report ...
 //
 // This file parses the command line; the commands are in compare_run.cpp,
-// compare_report.cpp and stability.cpp. scripts/compare.sh renders the
+// compare_report.cpp and stability_cmd.cpp. scripts/compare.sh renders the
 // gnuplot scripts `report` writes to docs/results_<scene>.png.
 #include <CLI/CLI.hpp>
 

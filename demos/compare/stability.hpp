@@ -182,6 +182,9 @@ std::vector<StabilityRow> read_stability_csv(const std::string& path, std::vecto
 // naming both files and lines (which one is right is not the merge's call).
 std::vector<StabilityRow> merge_stability(const std::vector<std::string>& inputs);
 
+// v with `prec` significant digits, for labels and messages.
+std::string short_num(double v, int prec = 3);
+
 }  // namespace xpbd_stability
 
 namespace xpbd_stability {
