@@ -14,6 +14,9 @@
 // | btConcaveShape with triangles (BVH mesh,| processAllTriangles over the query box,  | processAllTriangles over the segment    |
 // |  scaled BVH mesh, heightfield)          | one-sided closest point (own code)       | box, one-sided ray-triangle (own code)  |
 //
+// The triangle callbacks are in narrowphase_triangles.cpp, the GJK/EPA
+// signed distance in narrowphase_convex.cpp (narrowphase_internal.hpp).
+//
 // FCL is not used here: its signed distance for primitives runs libccd GJK/EPA
 // (approximate inside curved shapes, wrong for a zero-radius sphere outside a
 // box, a crash against a half-space), its sphere-capsule contact has no normal
@@ -21,10 +24,11 @@
 // depth (fcl PR #569). tests/bridge/test_narrowphase_fcl.cpp shows each.
 #include "xpbd_bullet/narrowphase.hpp"
 
+#include "narrowphase_internal.hpp"
+
 #include <btBulletCollisionCommon.h>
 #include <BulletDynamics/Dynamics/btRigidBody.h>
 #include <BulletCollision/CollisionShapes/btHeightfieldTerrainShape.h>
-#include <BulletCollision/NarrowPhaseCollision/btGjkEpa2.h>
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -38,16 +42,13 @@
 namespace xpbd_bullet {
 namespace {
 
+using namespace narrowphase;
+
 static_assert(std::is_same_v<btScalar, xpbd::Real>,
               "the bridge must link the Bullet build whose btScalar is xpbd::Real");
 
 using xpbd::Real;
 using xpbd::Vec3;
-
-constexpr Real kInf = std::numeric_limits<Real>::infinity();
-
-Vec3 to_vec(const btVector3& v) { return Vec3(v.x(), v.y(), v.z()); }
-btVector3 to_bt(const Vec3& v) { return btVector3(v.x(), v.y(), v.z()); }
 
 std::string fmt(const Vec3& v) {
   std::ostringstream s;
@@ -60,10 +61,6 @@ void require_finite(const char* fn, const char* name, const Vec3& v) {
     throw std::invalid_argument(std::string(fn) + ": " + name + " = " + fmt(v) + " is not finite");
 }
 
-// Length scale for round-off tolerances of a query near point p (m): features
-// closer than kDegenerateRel * scale are treated as coincident.
-Real tol_at(const Vec3& p) { return xpbd::kDegenerateRel * (Real(1) + p.cwiseAbs().maxCoeff()); }
-
 // A unit vector perpendicular to axis `up` (0, 1, 2): the next axis. Used where
 // the nearest direction is not unique (a point on a capsule's axis).
 Vec3 perpendicular_axis(int up) { return Vec3::Unit((up + 1) % 3); }
@@ -73,11 +70,6 @@ Vec3 perpendicular_axis(int up) { return Vec3::Unit((up + 1) % 3); }
 // point, the outward unit normal and the signed distance of p, with
 // p == point + distance * normal.
 // ---------------------------------------------------------------------------
-struct Local {
-  Vec3 point;
-  Vec3 normal;
-  Real distance;
-};
 
 Local sphere_local(Real radius, const Vec3& p) {
   const Real r = p.norm();
@@ -150,155 +142,6 @@ Local plane_local(const Vec3& n, Real c, const Vec3& p) {
 }
 
 // ---------------------------------------------------------------------------
-// Triangles (meshes, heightfields)
-// ---------------------------------------------------------------------------
-
-// Closest point to p on triangle (a, b, c), by the Voronoi region of p:
-// three vertex regions, three edge regions, or the face (Ericson, Real-Time
-// Collision Detection, section 5.1.5). Barycentric quantities are written in
-// terms of dot products of edge vectors, no normal needed. `in_face` tells
-// whether p projects inside the triangle (face region).
-Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, bool& in_face) {
-  in_face = false;
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const Real d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Vec3 bp = p - b;
-  const Real d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const Real vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;  // edge ab
-  const Vec3 cp = p - c;
-  const Real d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const Real vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;  // edge ac
-  const Real va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)                     // edge bc
-    return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
-  const Real denom = Real(1) / (va + vb + vc);  // face interior
-  in_face = true;
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
-
-// Unit front normal of a triangle, or zero for a degenerate one. A
-// heightfield's front is its up side whatever its winding (up >= 0).
-Vec3 front_normal(const Vec3& a, const Vec3& b, const Vec3& c, int up) {
-  Vec3 n = (b - a).cross(c - a);
-  const Real len = n.norm();
-  const Real scale = std::max({(b - a).squaredNorm(), (c - a).squaredNorm(), (c - b).squaredNorm()});
-  if (!(len > xpbd::kDegenerateRel * scale)) return Vec3::Zero();
-  n /= len;
-  if (up >= 0 && n[up] < 0) n = -n;
-  return n;
-}
-
-// -1 for meshes (front = counter-clockwise side), the up axis for heightfields.
-int front_axis(const btCollisionShape& shape) {
-  if (shape.getShapeType() == TERRAIN_SHAPE_PROXYTYPE)
-    return static_cast<const btHeightfieldTerrainShape&>(shape).getUpAxis();
-  return -1;
-}
-
-// Keeps the nearest triangle to x within max_distance. When several triangles
-// share the nearest point (an edge or a vertex), the one whose plane faces x
-// most directly decides the side: on a closed mesh that is the face whose
-// half-space test agrees with the true inside/outside.
-class NearestTriangle : public btTriangleCallback {
- public:
-  NearestTriangle(const Vec3& x, Real max_distance, int up)
-      : x_(x), max_d_(max_distance), up_(up), tol_(tol_at(x)) {}
-
-  void processTriangle(btVector3* tri, int, int) override {
-    const Vec3 a = to_vec(tri[0]), b = to_vec(tri[1]), c = to_vec(tri[2]);
-    const Vec3 n = front_normal(a, b, c, up_);
-    if (n.isZero()) return;  // degenerate triangle: no side, no contact
-    bool in_face;
-    const Vec3 q = closest_on_triangle(x_, a, b, c, in_face);
-    const Real d = (x_ - q).norm();
-    if (d > max_d_) return;
-    // How squarely the triangle's plane faces x: 1 in the face region.
-    const Real facing = d > tol_ ? std::abs((x_ - q).dot(n)) / d : Real(1);
-    if (found_ && !(d < best_d_ - tol_ || (d <= best_d_ + tol_ && facing > best_facing_))) return;
-    found_ = true;
-    best_d_ = d;
-    best_facing_ = facing;
-    best_q_ = q;
-    best_n_ = n;
-    best_in_face_ = in_face;
-  }
-
-  bool found() const { return found_; }
-
-  Local result() const {
-    const Vec3 d = x_ - best_q_;
-    if (best_d_ <= tol_) return {best_q_, best_n_, 0};
-    // Face region: x - q is parallel to the normal up to the round-off of q,
-    // which (x - q) / |x - q| would amplify for tiny distances; the face
-    // normal and the plane distance are exact there.
-    if (best_in_face_) return {best_q_, best_n_, d.dot(best_n_)};
-    const Real side = d.dot(best_n_) >= 0 ? Real(1) : Real(-1);
-    return {best_q_, side * d / best_d_, side * best_d_};
-  }
-
- private:
-  Vec3 x_;
-  Real max_d_;
-  int up_;
-  Real tol_;
-  bool found_ = false;
-  Real best_d_ = kInf;
-  Real best_facing_ = 0;
-  Vec3 best_q_ = Vec3::Zero();
-  Vec3 best_n_ = Vec3::Zero();
-  bool best_in_face_ = false;
-};
-
-// First front-face crossing of the segment a + t (b - a), t in [0, 1], with
-// the triangles (Moller-Trumbore: solve a + t d = v0 + u e1 + v e2 by Cramer's
-// rule). Back faces (d . n >= 0) are skipped: one-sided.
-class FirstTriangleHit : public btTriangleCallback {
- public:
-  FirstTriangleHit(const Vec3& a, const Vec3& b, int up)
-      : a_(a), d_(b - a), up_(up), tol_(xpbd::kDegenerateRel) {}
-
-  void processTriangle(btVector3* tri, int, int) override {
-    const Vec3 v0 = to_vec(tri[0]), v1 = to_vec(tri[1]), v2 = to_vec(tri[2]);
-    const Vec3 n = front_normal(v0, v1, v2, up_);
-    if (n.isZero() || d_.dot(n) >= 0) return;
-    const Vec3 e1 = v1 - v0, e2 = v2 - v0;
-    const Vec3 pv = d_.cross(e2);
-    const Real det = e1.dot(pv);
-    if (det == 0) return;  // segment parallel to the plane (d . n < 0 makes this rare)
-    const Real inv = Real(1) / det;
-    const Vec3 tv = a_ - v0;
-    const Real u = tv.dot(pv) * inv;
-    const Vec3 qv = tv.cross(e1);
-    const Real v = d_.dot(qv) * inv;
-    const Real t = e2.dot(qv) * inv;
-    // Barycentric tolerance: a segment through a shared edge must not slip
-    // between its two triangles because of round-off.
-    if (u < -tol_ || v < -tol_ || u + v > 1 + tol_) return;
-    if (t < 0 || t > 1 || t >= best_t_) return;
-    best_t_ = t;
-    best_n_ = n;
-    hit_ = true;
-  }
-
-  bool hit() const { return hit_; }
-  Real t() const { return best_t_; }
-  const Vec3& normal() const { return best_n_; }
-
- private:
-  Vec3 a_, d_;
-  int up_;
-  Real tol_;
-  bool hit_ = false;
-  Real best_t_ = kInf;
-  Vec3 best_n_ = Vec3::Zero();
-};
-
-// ---------------------------------------------------------------------------
 // Shape dispatch
 // ---------------------------------------------------------------------------
 enum class Kind { Sphere, Box, Capsule, Cylinder, Plane, Convex, Compound, Triangles, Unsupported };
@@ -361,90 +204,6 @@ bool aabb_far(const btCollisionShape& shape, const btTransform& t, const Vec3& x
   btVector3 lo, hi;
   shape.getAabb(t, lo, hi);
   return distance_to_aabb(x, lo, hi) > max_distance;
-}
-
-// Makes n the outward normal at the surface point w of a convex shape: an
-// outward normal supports the shape at w, h(n) = max_y y.n = w.n, while -n
-// would give h(-n) = w.(-n) + (width of the shape along n). Bullet 3.24
-// reports points within GJK's accuracy outside the surface as penetrating with
-// the inward normal: flipping n and the sign of d keeps x = w + d n and gives
-// the outward normal. Only used near the surface with EPA's plane normal: the
-// test needs an accurate n (a tilt by angle a raises h(n) - w.n by about
-// a * the shape's extent, which can exceed the width of a thin shape).
-void orient_outward(const btConvexShape& shape, const btTransform& t, Local& l) {
-  const btVector3 n = t.getBasis().transpose() * to_bt(l.normal);  // local frame
-  const btScalar w = t.invXform(to_bt(l.point)).dot(n);
-  const btScalar excess_plus = shape.localGetSupportingVertex(n).dot(n) - w;     // 0 if n is outward
-  const btScalar excess_minus = shape.localGetSupportingVertex(-n).dot(-n) + w;  // 0 if -n is outward
-  if (excess_minus < excess_plus) {
-    l.normal = -l.normal;
-    l.distance = -l.distance;
-  }
-}
-
-// Outside a convex shape GJK's normal is (x - w) / |x - w| with witness
-// errors of ~1e-12 m (double; GJK_ACCURACY) or ~1e-3 m (float), so it is
-// noisy when x is within a band of kConvexBand (1 + |x|) of the surface.
-// There the normal is taken from EPA at a point one band inside instead:
-// EPA's normal is the plane of a polytope face, exact for a face. Near an edge
-// the inner point may fall nearer to another face; that plane is only taken
-// if it is within 60 degrees of GJK's direction (a neighbouring face of the
-// same edge or vertex, a valid supporting normal that close to it).
-constexpr Real kConvexBand = std::is_same_v<Real, double> ? Real(1e-6) : Real(1e-3);  // relative
-
-// One GJK/EPA signed distance, following btGjkEpaSolver2::SignedDistance but
-// keeping EPA's own normal inside (that function replaces it by the difference
-// of two witness points, whose round-off dominates at depths near 0):
-//  - outside the core shape (margin excluded), GJK gives the closest points
-//    w0 (shape) and w1 (= x); the surface with margin m is m further along
-//    n = (w1 - w0) / |w1 - w0|, and d = |w1 - w0| - m;
-//  - otherwise EPA on the shape with its margin gives the depth, the surface
-//    point and the plane normal of the nearest polytope face.
-bool convex_signed_distance_raw(const btConvexShape& shape, const btTransform& t, const Vec3& x, Local& out,
-                                bool& separated) {
-  btSphereShape point(0);  // a sphere of radius 0 has margin 0
-  const btTransform at(btQuaternion::getIdentity(), to_bt(x));
-  btGjkEpaSolver2::sResults r;
-  separated = false;
-  if (btGjkEpaSolver2::Distance(&shape, t, &point, at, btVector3(1, 1, 1), r)) {
-    const btVector3 delta = r.witnesses[1] - r.witnesses[0];
-    const btScalar len = delta.length();
-    if (len > 0 && std::isfinite(len)) {
-      const btScalar margin = shape.getMargin();
-      const btVector3 n = delta / len;
-      out = {to_vec(r.witnesses[0] + n * margin), to_vec(n), len - margin};
-      separated = true;
-    }
-  }
-  if (!separated) {
-    if (!btGjkEpaSolver2::Penetration(&shape, t, &point, at, btVector3(1, 1, 1), r, true)) return false;
-    // r.normal is minus EPA's normal, in the shape's frame; r.distance = -depth.
-    out = {to_vec(r.witnesses[0]), to_vec(t.getBasis() * (-r.normal)), r.distance};
-  }
-  return out.point.allFinite() && out.normal.allFinite() && std::isfinite(out.distance);
-}
-
-// Signed distance of a world point to a generic convex shape including its
-// margin, by Bullet's GJK (outside) / EPA (inside). Returns false if both fail.
-bool convex_signed_distance(const btConvexShape& shape, const btTransform& t, const Vec3& x, Local& out) {
-  bool separated;
-  if (!convex_signed_distance_raw(shape, t, x, out, separated)) return false;
-  const Real band = kConvexBand * (Real(1) + x.cwiseAbs().maxCoeff());
-  if (std::abs(out.distance) >= band) return true;  // clearly outside or inside: side and normal are reliable
-  if (!separated) {  // EPA at the surface: an accurate plane, possibly on the wrong side
-    orient_outward(shape, t, out);
-    return true;
-  }
-  // GJK at the surface: a reliable side, a noisy direction. Take EPA's plane
-  // from a point `band` inside (deep enough for EPA's side to be reliable).
-  Local inner;
-  bool inner_separated;
-  const Vec3 x_in = x - (out.distance + band) * out.normal;
-  if (convex_signed_distance_raw(shape, t, x_in, inner, inner_separated) && !inner_separated) {
-    if (std::abs(inner.distance) < Real(0.5) * band) orient_outward(shape, t, inner);
-    if (inner.normal.dot(out.normal) > Real(0.5)) out.normal = inner.normal;
-  }
-  return true;
 }
 
 bool query_shape(const btCollisionShape& shape, const btTransform& t, const Vec3& x, Real max_distance,

@@ -30,7 +30,7 @@ struct TriangleGrab : btTriangleCallback {
 };
 
 // Shapes made of triangles (BVH meshes, scaled or multi-material, and
-// heightfields), as narrowphase.cpp answers them.
+// heightfields), as narrowphase.cpp answers them (narrowphase_triangles.cpp).
 bool is_triangle_mesh(const btCollisionShape& shape) {
   switch (shape.getShapeType()) {
     case TRIANGLE_MESH_SHAPE_PROXYTYPE:
