@@ -7,8 +7,9 @@
 #   scripts/fuzz.sh [RUNS] [TARGET...]
 #
 # Builds build/fuzz with clang (libFuzzer, AddressSanitizer, UBSan; the
-# tests are not built there) and runs each target (default: all three) for RUNS executions (default 2000, the
-# short run of scripts/test.sh; a campaign: 1000000) from its seed corpus
+# tests are not built there) and runs each target (default: all three) for
+# RUNS executions (default 2000, the short run of scripts/test.sh; a
+# campaign: 1000000) from its seed corpus
 # tests/fuzz/corpus/<target> (plus the scene examples and the malformed
 # corpus for fuzz_scene_file). New inputs go to <build>/corpus/<target>,
 # which later runs continue from. A crash, sanitizer report, leak or timeout
@@ -32,9 +33,9 @@ if [ "$build" = build/fuzz ]; then
     echo "fuzz: clang++ not found (Debian: apt-get install clang libclang-rt-14-dev)" >&2
     exit 2
   fi
-  cmake -S . -B build/fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" -DXPBD_FUZZ=ON -DXPBD_BUILD_TESTS=OFF \
-    -DXPBD_BUILD_BENCHMARKS=OFF >/dev/null
+  cmake -S . -B build/fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+    -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1" -DXPBD_FUZZ=ON \
+    -DXPBD_BUILD_TESTS=OFF -DXPBD_BUILD_BENCHMARKS=OFF >/dev/null
 elif ! grep -q '^XPBD_FUZZ:BOOL=ON$' "$build/CMakeCache.txt" 2>/dev/null; then
   echo "fuzz: FUZZ_BUILD=$build is not a build tree configured with XPBD_FUZZ=ON" >&2
   exit 2
@@ -53,7 +54,8 @@ for t in "${targets[@]}"; do
   log="$build/fuzz_$t.log"
   if ! ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
     "$build/tests/fuzz/fuzz_$t" -runs="$runs" -timeout=60 -rss_limit_mb=2048 -max_len=65536 \
-    -print_final_stats=1 -seed="${FUZZ_SEED:-1}" -artifact_prefix="$build/artifacts/$t-" "$corpus" >"$log" 2>&1; then
+    -print_final_stats=1 -seed="${FUZZ_SEED:-1}" -artifact_prefix="$build/artifacts/$t-" "$corpus" \
+    >"$log" 2>&1; then
     tail -n 60 "$log" >&2
     echo "fuzz_$t: failed (log $log); the input is in $build/artifacts/" >&2
     exit 1
