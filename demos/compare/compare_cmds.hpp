@@ -1,8 +1,10 @@
 #pragma once
 // The subcommands of xpbd-compare (compare_main.cpp parses the command
 // line): `run` and `merge` in compare_run.cpp, `report` and `cheapest` in
-// compare_report.cpp. Each returns the process exit code; bad arguments are
-// reported on stderr with exit code 2.
+// compare_report.cpp (the report's fixed text in report_method.cpp). Each
+// returns the process exit code; bad arguments are reported on stderr with
+// exit code 2.
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -31,6 +33,9 @@ struct ReportArgs {
   Judge judge = Judge::mean;
 };
 int cmd_report(const ReportArgs& a);
+// docs/results.md's fixed sections (how the runs are made, what changed,
+// interrupting and resuming), judged under `judge` with `other` in the summary.
+void write_report_method(std::ostringstream& md, Judge judge, Judge other);
 int cmd_cheapest(const std::string& csv_path, const std::string& scene, double target, Judge judge);
 
 }  // namespace xpbd_compare
