@@ -13,6 +13,7 @@
 #include "xpbd/spatial_hash.hpp"
 #include "xpbd/special_constraints.hpp"
 #include "chains_solve.hpp"
+#include "hierarchy.hpp"
 #include "stream.hpp"
 
 namespace xpbd {
@@ -257,6 +258,8 @@ void validate(const StepConfig& cfg) {
     throw ConfigError("StepConfig.chain_passes: must be >= 1, got " + std::to_string(cfg.chain_passes));
   if (!(cfg.chain_tolerance >= Real(0)) || !std::isfinite(cfg.chain_tolerance))
     throw ConfigError("StepConfig.chain_tolerance: must be finite and >= 0, got " + num(cfg.chain_tolerance));
+  if (!(cfg.hierarchy_slack >= Real(0)) || !std::isfinite(cfg.hierarchy_slack))
+    throw ConfigError("StepConfig.hierarchy_slack: must be finite and >= 0, got " + num(cfg.hierarchy_slack));
   if (cfg.contact_sweeps < 0)
     throw ConfigError("StepConfig.contact_sweeps: must be >= 0, got " +
                       std::to_string(cfg.contact_sweeps));
@@ -335,6 +338,9 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
       // is written at the end of the step.)
       reset_multipliers(s, stream, hinges);
     });
+    // StepConfig::hierarchy: the coarse levels' one-sided pass.
+    if (cfg.hierarchy)
+      timed(t, stage::of<Distance>, true, [&] { detail::hierarchy_pass(m, s, cfg.hierarchy_slack); });
     // 3. Solve: `iterations` Gauss-Seidel sweeps over all constraints, then
     // up to `contact_sweeps` more while a contact is violated when the
     // contacts' turn comes in the sweep (after the first sweep: the

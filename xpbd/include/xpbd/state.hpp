@@ -2,6 +2,7 @@
 // State: what a scene *does*. One per simulated instance; mutable.
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "xpbd/aligned.hpp"
@@ -12,6 +13,10 @@
 #include "xpbd/types.hpp"
 
 namespace xpbd {
+
+namespace detail {
+struct Hierarchy;
+}
 
 struct Model;
 
@@ -96,6 +101,11 @@ struct State {
   std::vector<Real> dihedral_lambda, dihedral_at, dihedral_gamma;
   // The direct chain solve's scratch (StepConfig::direct_chains, chains.hpp).
   ChainScratch chain;
+  // StepConfig::hierarchy: the coarse levels of the model's Distance graph
+  // (internal; built by the first step that uses them, immutable, shared
+  // by copies of the state) and the positions the pass starts from.
+  std::shared_ptr<const detail::Hierarchy> hierarchy;
+  std::vector<Vec3> hierarchy_x;
 
   // Particle-particle collision (spatial_hash.hpp): hash and the pairs found
   // at the start of the current step. Empty when the model has it off.

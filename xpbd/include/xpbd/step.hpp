@@ -52,6 +52,22 @@ struct StepConfig {
   bool direct_chains = false;
   int chain_passes = 16;               // >= 1
   Real chain_tolerance = Real(1e-3);   // >= 0, relative to rest length
+  // Hierarchical PBD (Mueller 2008; off by default; either method): coarse
+  // levels over the Distance elements' graph, each a maximal independent
+  // set of the finer one, joined by one-sided edges through the particles
+  // they share. Before the sweeps of every substep, each coarse edge
+  // stretched beyond its rest length times (1 + hierarchy_slack) is pulled
+  // back to it, coarsest level first, and the finer particles follow their
+  // coarse neighbours' displacement; then the sweeps run as without it. A
+  // structure whose strain stays below the slack is stepped exactly as
+  // without the hierarchy; beyond it, the pass's displacement is in no
+  // multiplier (not in the forces read from lambda) and holds the coarse
+  // strain near the slack whatever the material's compliance, so the slack
+  // must exceed the elastic strain the material should reach. Built on the
+  // first step that uses it (src/hierarchy.hpp); costs about a third of a
+  // Distance sweep per substep on a cloth. docs/convergence.md measures it.
+  bool hierarchy = false;
+  Real hierarchy_slack = Real(0.01);   // >= 0, strain
   // Coloured sweep of the Distance elements: they are projected in the order
   // of Model::distance_colours (model.hpp: colour by colour, no two elements
   // of a colour sharing a particle, so consecutive projections do not wait
