@@ -63,6 +63,9 @@ SolverSpec read_solver(const Ctx& c, const json& v, const std::string& path) {
   at_least(c, s.chain_passes, 1, o.at("chain_passes"));
   o.real("chain_tolerance", s.chain_tolerance);
   non_negative(c, s.chain_tolerance, o.at("chain_tolerance"));
+  o.boolean("hierarchy", s.hierarchy);
+  o.real("hierarchy_slack", s.hierarchy_slack);
+  non_negative(c, s.hierarchy_slack, o.at("hierarchy_slack"));
   o.vec("gravity", s.gravity);
   o.real("bullet_kLST", s.bullet_kLST);
   c.require(s.bullet_kLST > Real(0) && s.bullet_kLST <= Real(1), o.at("bullet_kLST"),

@@ -131,7 +131,7 @@ using Keys = std::initializer_list<const char*>;
 // clang-format off
 inline constexpr Keys kTopKeys{"name", "description", "solver", "soft", "bodies", "attachments"};
 inline constexpr Keys kSolverKeys{"method", "dt", "substeps", "iterations", "frames", "drag", "alternate_sweeps",
-                           "coloured", "direct_chains", "chain_passes", "chain_tolerance", "gravity", "bullet_kLST", "max_strain",
+                           "coloured", "direct_chains", "chain_passes", "chain_tolerance", "hierarchy", "hierarchy_slack", "gravity", "bullet_kLST", "max_strain",
                            "tolerance", "penetration_tolerance", "max_substeps"};
 inline constexpr Keys kSoftKeys{"particles", "generators", "contacts", "distances", "collisions", "pins", "planes",
                      "penetrations", "dihedral_bends", "isometric_bends", "tets", "tethers",

@@ -348,6 +348,8 @@ json to_json(const SceneSpec& s) {
                  {"direct_chains", v.direct_chains},
                  {"chain_passes", v.chain_passes},
                  {"chain_tolerance", out_real(v.chain_tolerance)},
+                 {"hierarchy", v.hierarchy},
+                 {"hierarchy_slack", out_real(v.hierarchy_slack)},
                  {"gravity", out_vec(v.gravity)},
                  {"bullet_kLST", out_real(v.bullet_kLST)},
                  {"max_strain", v.max_strain},

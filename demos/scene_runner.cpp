@@ -408,6 +408,7 @@ RunResult run_scene(const SceneSpec& spec, const ExpandedSoft& soft, const RunOp
                          {"alternate_sweeps", spec.solver.alternate_sweeps},
                          {"coloured", spec.solver.coloured},
                          {"direct_chains", spec.solver.direct_chains && opt.solver == Solver::xpbd},
+                         {"hierarchy", spec.solver.hierarchy && opt.solver != Solver::bullet},
                          {"contacts",
                           {{"enabled", !spec.bodies.empty()},
                            {"thickness", double(c.thickness)},

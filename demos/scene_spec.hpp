@@ -48,6 +48,9 @@ struct SolverSpec {
   bool direct_chains = false;
   int chain_passes = 16;                       // xpbd::StepConfig::chain_passes (>= 1)
   xpbd::Real chain_tolerance = xpbd::Real(1e-3);  // xpbd::StepConfig::chain_tolerance (>= 0)
+  // Hierarchical PBD (xpbd::StepConfig::hierarchy; XPBD and PBD).
+  bool hierarchy = false;
+  xpbd::Real hierarchy_slack = xpbd::Real(0.01);  // xpbd::StepConfig::hierarchy_slack (>= 0)
   xpbd::Vec3 gravity{xpbd::Real(0), xpbd::Real(-9.81), xpbd::Real(0)};  // m/s^2, world gravity
   // btSoftBody (--solver bullet) at the matched budget: `substeps` internal
   // steps of dt/substeps per frame, each with `iterations` position

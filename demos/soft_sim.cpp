@@ -80,6 +80,8 @@ class XpbdSim : public SoftSim {
     s.direct_chains = spec.solver.direct_chains && opt.solver == Solver::xpbd;
     s.chain_passes = spec.solver.chain_passes;
     s.chain_tolerance = spec.solver.chain_tolerance;
+    s.hierarchy = spec.solver.hierarchy;
+    s.hierarchy_slack = spec.solver.hierarchy_slack;
     if (opt.threads > 1) {
       workers_ = std::make_unique<xpbd::Workers>(opt.threads);
       s.workers = workers_.get();
@@ -218,6 +220,8 @@ class BulletSim : public SoftSim {
       notes.push_back("btSoftBody: coloured is not used (btSoftBody sweeps its links in one order)");
     if (spec.solver.direct_chains)
       notes.push_back("btSoftBody: direct_chains is not used (btSoftBody sweeps its links)");
+    if (spec.solver.hierarchy)
+      notes.push_back("btSoftBody: hierarchy is not used (btSoftBody sweeps its links)");
     if (opt.tolerance > 0)
       notes.push_back("btSoftBody: tolerance is not used (it runs the fixed substeps x iterations)");
     if (opt.penetration_tolerance > 0)

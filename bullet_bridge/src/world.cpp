@@ -54,6 +54,8 @@ void check_settings(const SystemSettings& s) {
   if (s.chain_passes < 1) bad("chain_passes", "must be >= 1, got " + std::to_string(s.chain_passes));
   if (!(s.chain_tolerance >= Real(0)) || !std::isfinite(s.chain_tolerance))
     bad("chain_tolerance", "must be finite and >= 0, got " + xpbd::format_value(double(s.chain_tolerance)));
+  if (!(s.hierarchy_slack >= Real(0)) || !std::isfinite(s.hierarchy_slack))
+    bad("hierarchy_slack", "must be finite and >= 0, got " + xpbd::format_value(double(s.hierarchy_slack)));
   if (s.workers != nullptr && !s.coloured)
     bad("workers", "the threads split the coloured sweep; set coloured = true");
   xpbd::validate(s.health, "SystemSettings.health.");

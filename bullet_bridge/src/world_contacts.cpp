@@ -336,6 +336,8 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
   cfg.direct_chains = set.direct_chains;
   cfg.chain_passes = set.chain_passes;
   cfg.chain_tolerance = set.chain_tolerance;
+  cfg.hierarchy = set.hierarchy;
+  cfg.hierarchy_slack = set.hierarchy_slack;
   cfg.workers = set.workers;
   cfg.contact_sweeps = set.contact_sweeps;
   cfg.contact_tolerance = set.contact_tolerance;

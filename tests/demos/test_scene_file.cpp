@@ -201,6 +201,8 @@ TEST(SceneFile, RoundTripExplicitParticlesAndEveryElementType) {
   s.solver.direct_chains = true;
   s.solver.chain_passes = 5;
   s.solver.chain_tolerance = Real(2.5e-4);
+  s.solver.hierarchy = true;
+  s.solver.hierarchy_slack = Real(0.03);
   s.solver.gravity = Vec3(Real(0.1), Real(-9.80665), Real(1) / Real(3));
   s.solver.bullet_kLST = Real(0.7);
   xpbd::SceneDesc& d = s.soft.particles;

@@ -245,6 +245,10 @@ struct SystemSettings {
   bool direct_chains = false;
   int chain_passes = 16;                     // xpbd::StepConfig::chain_passes
   xpbd::Real chain_tolerance = xpbd::Real(1e-3);  // xpbd::StepConfig::chain_tolerance
+  // Hierarchical PBD's coarse levels before every substep's sweeps
+  // (xpbd::StepConfig::hierarchy, hierarchy_slack >= 0).
+  bool hierarchy = false;
+  xpbd::Real hierarchy_slack = xpbd::Real(0.01);
   // Threads for the coloured sweep (xpbd::StepConfig::workers; needs
   // coloured): a pool the application owns and keeps alive while the
   // system steps; one pool can serve every system (they step in turn).

@@ -140,6 +140,8 @@ inline SceneSpec round_trip(const SceneSpec& s) {
   EXPECT_EQ(back.solver.direct_chains, s.solver.direct_chains);
   EXPECT_EQ(back.solver.chain_passes, s.solver.chain_passes);
   EXPECT_EQ(back.solver.chain_tolerance, s.solver.chain_tolerance);
+  EXPECT_EQ(back.solver.hierarchy, s.solver.hierarchy);
+  EXPECT_EQ(back.solver.hierarchy_slack, s.solver.hierarchy_slack);
   EXPECT_EQ(back.solver.gravity, s.solver.gravity);
   EXPECT_EQ(back.solver.bullet_kLST, s.solver.bullet_kLST);
   EXPECT_EQ(back.solver.max_strain, s.solver.max_strain);
