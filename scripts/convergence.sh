@@ -11,6 +11,8 @@
 #   direct       n x 1, n = 5, 10, 20, 40, with the direct solve along chains
 #                (solver.direct_chains); ropes only: a cloth's only chains
 #                are its corners
+#   hierarchy    n x 1 with hierarchical PBD's coarse levels
+#                (solver.hierarchy, slack 0.01)
 # and once with its tolerance (the substeps chosen frame by frame). Each
 # method alone: the scene's own direct_chains is off but in the direct rows.
 # Error: the run's largest edge strain; time: the median of 3 runs' ms per
@@ -68,6 +70,8 @@ for scene in "${scenes[@]}"; do
                                    --set soft.generators.0.cloth.tethers=nearest_pinned)
       echo "$scene,tethers,${n}x1,$ms,$strain,$status" >> "$csv"
     fi
+    read -r ms strain status < <(run "$scene" "${off[@]}" --substeps "$n" --iterations 1 --set solver.hierarchy=true)
+    echo "$scene,hierarchy,${n}x1,$ms,$strain,$status" >> "$csv"
   done
   if [ "$rope" -gt 0 ]; then
     for n in 5 10 20 40; do
@@ -112,7 +116,7 @@ gp=out/convergence/chart.gp
     echo "set title '$scene'"
     plot="plot"
     sep=""
-    for method in substeps iterations tethers alternate direct tolerance; do
+    for method in substeps iterations tethers alternate direct hierarchy tolerance; do
       if grep "^$scene,$method," "$csv" | grep -q -v -e exploded -e nonfinite; then
         case "$method" in  # one colour per method in every panel
           substeps) style="linespoints lc 1" ;;
@@ -120,6 +124,7 @@ gp=out/convergence/chart.gp
           tethers) style="linespoints lc 3" ;;
           alternate) style="linespoints lc 4" ;;
           direct) style="linespoints lc 6" ;;
+          hierarchy) style="linespoints lc 8" ;;
           *) style="points pt 7 ps 2 lc 7" ;;
         esac
         plot+="$sep '< grep \"^$scene,$method,\" $csv | grep -v -e exploded -e nonfinite' using 4:5 with $style title '$method'"
