@@ -143,7 +143,7 @@ void XpbdWorld::add_world_contacts(System& s, btScalar dt) {
 
 namespace {
 
-// The tolerance's controller (SystemSettings::tolerance, world.hpp): the
+// The tolerance's controller (SystemSettings::tolerance, settings.hpp): the
 // substeps that bring `error` (measured at n, relative to the tolerance) to
 // `aim` if the error falls as 1/n^power. Up (a step solved again): power 2,
 // the h^2 term of one sweep per substep, so the count jumps close to what is
