@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -118,6 +120,38 @@ TEST(Hierarchy, ClothLevelsKeepPinsWeightsAndRestBounds) {
     }
     finer = lev.particles.size();
   }
+}
+
+// A fan: a ring of 2,000 particles, each joined to the next and to a hub
+// listed last, so the greedy set takes every other ring particle and the
+// hub is a child of 1,000 of them. It keeps the 16 nearest by rest length,
+// so its coarse edges are at most 16 * 15 / 2 = 120 on top of the ring's,
+// not half a million.
+TEST(Hierarchy, AHubKeepsSixteenParents) {
+  const int n = 2000;
+  xpbd::SceneDesc s;
+  for (int i = 0; i < n; ++i) {
+    const Real a = Real(2) * std::numbers::pi_v<Real> * Real(i) / Real(n);
+    s.add_particle(Vec3(std::cos(a), std::sin(a), 0), Real(0.01), 0);
+  }
+  s.add_particle(Vec3::Zero(), Real(0.01), 0);
+  for (int i = 0; i < n; ++i) {
+    s.distances.push_back({i, (i + 1) % n, std::nullopt, {}});
+    s.distances.push_back({i, n, std::nullopt, {}});
+  }
+  const xpbd::Model model = xpbd::compile(s);
+  const auto h = xpbd::detail::build_hierarchy(model);
+  ASSERT_GE(h->levels.size(), 1u);
+  const auto& lev = h->levels[0];
+  ASSERT_EQ(lev.particles.size(), static_cast<std::size_t>(n / 2));
+  const auto hub = std::find(lev.child.begin(), lev.child.end(), Index(n));
+  ASSERT_NE(hub, lev.child.end());
+  const std::size_t k = static_cast<std::size_t>(hub - lev.child.begin());
+  EXPECT_EQ(lev.parent_begin[k + 1] - lev.parent_begin[k], 16);
+  // The ring's coarse edges (n / 2, one per ring child) and the hub's 120,
+  // some of which are ring edges already.
+  EXPECT_LE(lev.edges.size(), static_cast<std::size_t>(n / 2 + 120));
+  EXPECT_GE(lev.edges.size(), static_cast<std::size_t>(n / 2));
 }
 
 Real max_strain(const xpbd::Model& m, const xpbd::State& s) { return xpbd::distance_strain(m, s).max; }

@@ -16,6 +16,10 @@ namespace {
 constexpr Real kInf = std::numeric_limits<Real>::infinity();
 constexpr int kMaxLevels = 12;
 constexpr std::size_t kMinParticles = 8;
+// A child keeps at most this many parents (the nearest by rest length), so
+// that a particle joined to many (a fan's hub) costs at most 120 coarse
+// edges, not the square of its degree.
+constexpr std::size_t kMaxParents = 16;
 
 // One level's graph: nodes as model indices, adjacency by position with the
 // edge's rest length.
@@ -89,14 +93,19 @@ bool coarsen(const Graph& g, HierarchyLevel& lev, Graph& next) {
   for (std::size_t i = 0; i < n; ++i) {
     if (mark[i] == kCoarse) continue;
     parents.clear();
-    Real sum = 0;
     for (const auto& [j, r] : g.adj[i])
-      if (mark[static_cast<std::size_t>(j)] == kCoarse) {
-        const Real w = Real(1) / std::max(r, std::numeric_limits<Real>::min());
-        parents.emplace_back(j, w);
-        sum += w;
-      }
+      if (mark[static_cast<std::size_t>(j)] == kCoarse)
+        parents.emplace_back(j, Real(1) / std::max(r, std::numeric_limits<Real>::min()));
     if (parents.empty()) continue;  // unreachable: the set is maximal
+    if (parents.size() > kMaxParents) {
+      auto nearer = [](const auto& a, const auto& b) {
+        return a.second > b.second || (a.second == b.second && a.first < b.first);
+      };
+      std::partial_sort(parents.begin(), parents.begin() + kMaxParents, parents.end(), nearer);
+      parents.resize(kMaxParents);
+    }
+    Real sum = 0;
+    for (const auto& [j, w] : parents) sum += w;
     const bool movable = !std::isinf(g.mass[i]);
     if (movable) lev.child.push_back(g.node[i]);
     for (const auto& [j, w] : parents) {

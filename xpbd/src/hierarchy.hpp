@@ -10,8 +10,8 @@
 // chosen greedily: particles of inverse mass 0 first (so that pins anchor
 // the coarse levels too), then in index order. Every other particle of the
 // finer level (a child) has at least one neighbour in the set (its
-// parents); its weight towards parent j is proportional to 1 / rest(i, j),
-// normalised to sum 1. Two coarse particles with a child in common are
+// parents, the 16 nearest by rest length where it has more); its weight
+// towards parent j is proportional to 1 / rest(i, j), normalised to sum 1. Two coarse particles with a child in common are
 // joined by a coarse edge whose rest length is the shortest rest path
 // through such a child (rest(p, i) + rest(i, q)): never shorter than the
 // straight distance the finer edges allow, and equal to it where the path

@@ -103,7 +103,9 @@ struct State {
   ChainScratch chain;
   // StepConfig::hierarchy: the coarse levels of the model's Distance graph
   // (internal; built by the first step that uses them, immutable, shared
-  // by copies of the state) and the positions the pass starts from.
+  // by copies of the state; rebuilt when the model's particle or Distance
+  // count differs, so a state put to another model of the same counts must
+  // have it reset to nullptr) and the positions the pass starts from.
   std::shared_ptr<const detail::Hierarchy> hierarchy;
   std::vector<Vec3> hierarchy_x;
 
