@@ -64,8 +64,8 @@ struct StepConfig {
   // multiplier (not in the forces read from lambda) and holds the coarse
   // strain near the slack whatever the material's compliance, so the slack
   // must exceed the elastic strain the material should reach. Built on the
-  // first step that uses it (src/hierarchy.hpp); costs about a third of a
-  // Distance sweep per substep on a cloth. docs/convergence.md measures it.
+  // first step that uses it (src/hierarchy.hpp). On the stiff cloths of
+  // docs/convergence.md it added 20-50 % to the time per frame at 10 x 1.
   bool hierarchy = false;
   Real hierarchy_slack = Real(0.01);   // >= 0, strain
   // Coloured sweep of the Distance elements: they are projected in the order
