@@ -13,10 +13,13 @@ bash scripts/setup.sh double >/dev/null  # the packages (and a normal build)
 cmake -S . -B build/tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DXPBD_DOUBLE=ON \
   -DXPBD_BUILD_BENCHMARKS=OFF -DXPBD_BUILD_DEMOS=OFF \
   -DCMAKE_CXX_FLAGS="-fsanitize=thread" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=thread" >/dev/null
-tests=(test_workers test_distance_stream test_world_settings)
-cmake --build build/tsan -j"$(nproc)" --target "${tests[@]}"
-for t in "${tests[@]}"; do
-  echo "tsan: $t"
-  TSAN_OPTIONS="halt_on_error=1 exitcode=66" "build/tsan/tests/$t"
+# The test suites of tests/unit/test_workers.cpp, test_distance_stream.cpp
+# and tests/integration/test_world_settings.cpp, in their label's executable.
+runs=("xpbd_tests_unit Workers.*:DistanceStream.*" "xpbd_tests_integration WorldSettings.*")
+cmake --build build/tsan -j"$(nproc)" --target xpbd_tests_unit xpbd_tests_integration
+for r in "${runs[@]}"; do
+  read -r exe filter <<<"$r"
+  echo "tsan: $exe --gtest_filter=$filter"
+  TSAN_OPTIONS="halt_on_error=1 exitcode=66" "build/tsan/tests/$exe" --gtest_filter="$filter"
 done
 echo "tsan: ok"

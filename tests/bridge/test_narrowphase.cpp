@@ -20,6 +20,9 @@
 
 #include "test_narrowphase_util.hpp"
 
+namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
+
 using namespace np_test;
 using xpbd_bullet::ParticleContact;
 using xpbd_bullet::query_point;
@@ -584,3 +587,6 @@ TEST(NarrowphaseInput, UnsupportedShapesGiveNoContact) {
   EXPECT_FALSE(xpbd_bullet::is_supported(empty));
   EXPECT_FALSE(query_point(*obj, Vec3(0, 0, 0), Real(1), c));
 }
+
+}  // namespace XPBD_TEST_FILE_ID
+}  // namespace

@@ -18,6 +18,9 @@
 
 #include "test_narrowphase_util.hpp"
 
+namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
+
 using namespace np_test;
 using xpbd_bullet::ParticleContact;
 using xpbd_bullet::query_point;
@@ -165,3 +168,6 @@ TEST(NarrowphaseFclDeathTest, SignedDistanceAgainstAHalfspaceCrashes) {
   btStaticPlaneShape shape(btVector3(0, 1, 0), 0);
   EXPECT_NEAR(bridge_query(shape, D3(0.3, 0.5, 0.2)).distance, 0.5, kTol);
 }
+
+}  // namespace XPBD_TEST_FILE_ID
+}  // namespace

@@ -17,6 +17,9 @@
 
 #include "test_narrowphase_util.hpp"
 
+namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
+
 using namespace np_test;
 using xpbd_bullet::ParticleContact;
 using xpbd_bullet::query_point;
@@ -340,3 +343,6 @@ TEST(NarrowphaseBroadphase, RejectsAnInvertedBox) {
     EXPECT_NE(std::string(e.what()).find("axis 1"), std::string::npos) << e.what();
   }
 }
+
+}  // namespace XPBD_TEST_FILE_ID
+}  // namespace

@@ -10,6 +10,9 @@
 
 #include "xpbd_bullet/smoke.hpp"
 
+namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
+
 TEST(BridgeSmoke, BulletScalarMatchesXpbd) { EXPECT_TRUE(xpbd_bullet::bullet_scalar_matches()); }
 
 TEST(BridgeSmoke, SphereComesToRestOnGroundAtItsRadius) {
@@ -31,3 +34,6 @@ TEST(BridgeSmoke, FclSphereSphereDistanceIsCentreDistanceMinusRadii) {
   fcl::distance(&a, &b, req, res);
   EXPECT_NEAR(res.min_distance, 1.25, 1e-6);
 }
+
+}  // namespace XPBD_TEST_FILE_ID
+}  // namespace

@@ -19,6 +19,7 @@
 #include "xpbd_bullet/softbody_baseline.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using xpbd::Real;
 using xpbd::Vec3;
@@ -367,4 +368,5 @@ TEST(SoftBodyBaseline, RejectsSceneElementsItCannotRepresent) {
   EXPECT_NE(message(s).find("distances[0].b"), std::string::npos);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

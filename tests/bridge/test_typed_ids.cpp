@@ -9,6 +9,7 @@
 #include "xpbd_bullet/world.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using xpbd_bullet::AttachmentId;
 using xpbd_bullet::SystemId;
@@ -36,4 +37,5 @@ TEST(TypedIds, ValuesCompareAndPrint) {
   EXPECT_EQ(o.str(), "system 2, attachment 5");
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

@@ -15,6 +15,7 @@
 #include "../integration/support.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::XpbdWorld;
@@ -130,4 +131,5 @@ TEST(WorldChecked, BodyAddedAgainNeedsANewAttachment) {
   EXPECT_EQ(xw.last_stats().dropped_attachments, 0);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

@@ -25,6 +25,7 @@
 #include "../integration/support.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::SystemSettings;
@@ -296,4 +297,5 @@ TEST(WorldCulling, ParticleJustWithinReachOfAnAabbFaceGetsItsContact) {
   }
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

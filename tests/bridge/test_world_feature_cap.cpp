@@ -20,6 +20,7 @@
 #include "../integration/support.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::SystemSettings;
@@ -69,4 +70,5 @@ TEST(WorldFeatureCap, AtMostSixteenTriangleContactsPerFeature) {
   }
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

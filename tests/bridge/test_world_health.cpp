@@ -14,6 +14,7 @@
 #include "../integration/support.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd::Health;
@@ -176,4 +177,5 @@ TEST(WorldHealth, EnergyTheApplicationOrABodyGivesIsNotFlagged) {
   }
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

@@ -16,6 +16,7 @@
 #include "../integration/support.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::XpbdWorld;
@@ -179,4 +180,5 @@ TEST(WorldLifetime, TheMarkerHasNoBroadphasePair) {
   bw.world->removeRigidBody(&box);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

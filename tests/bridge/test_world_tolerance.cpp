@@ -16,6 +16,7 @@
 #include "../integration/support.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::SystemSettings;
@@ -170,4 +171,5 @@ TEST(WorldTolerance, SettingsAreChecked) {
   EXPECT_EQ(message(set), "accepted");
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

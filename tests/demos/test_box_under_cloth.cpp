@@ -21,6 +21,7 @@
 #include "demos/scene_runner.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 struct Path {
   double lowest = 1e9, final = 0;
@@ -60,4 +61,5 @@ TEST(BoxUnderCloth, RestsOnTheGroundAtTheDefaults) {
   EXPECT_NEAR(box_path(100, 1).final, 0.1, 1e-4);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

@@ -14,6 +14,7 @@
 
 namespace xpbd_demos {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 TEST(BuiltinScenes, AtLeastTenWithUniqueNamesAndDescriptions) {
   std::set<std::string> names;
@@ -62,5 +63,6 @@ TEST(BuiltinScenes, EveryOneRunsWithEverySolverThatCanExpressIt) {
   EXPECT_GE(bullet_runs, 5);  // most scenes are expressible (7 of the 11 when this was written)
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd_demos

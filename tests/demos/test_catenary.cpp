@@ -24,6 +24,7 @@
 
 namespace xpbd_compare {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using V3d = Eigen::Vector3d;
 constexpr double kEps = std::numeric_limits<Real>::epsilon();
@@ -363,5 +364,6 @@ TEST(CatenaryScene, XpbdSettlesOnTheElasticEquilibrium) {
   EXPECT_GT(position_error(last, catenary_equilibrium(rigid).x).rms, 0.5 * elastic_vs_rigid);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd_compare

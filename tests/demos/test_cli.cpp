@@ -22,6 +22,7 @@
 #include "demos/builtin_scenes.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 namespace fs = std::filesystem;
 
@@ -331,4 +332,5 @@ void check_interrupted(int sig) {
 TEST(Cli, RunStoppedBySigtermLeavesOnlyCompleteFiles) { check_interrupted(SIGTERM); }
 TEST(Cli, RunKilledBySigkillLeavesOnlyCompleteFiles) { check_interrupted(SIGKILL); }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

@@ -19,6 +19,7 @@
 
 namespace xpbd_compare {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 constexpr double kEps = std::numeric_limits<Real>::epsilon();
 
@@ -342,5 +343,6 @@ TEST(CompareCheapest, PicksTheFastestRunMeetingTheTargetAcrossResolutions) {
   EXPECT_TRUE(cheapest(rows, "hanging_cloth", 0.15, Judge::worst)[0].row.has_value());
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd_compare

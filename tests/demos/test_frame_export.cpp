@@ -23,6 +23,7 @@
 
 namespace xpbd_demos {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 namespace fs = std::filesystem;
 using xpbd::Index;
@@ -575,5 +576,6 @@ TEST_F(FrameFiles, BadInputIsNamedAndWritesNothing) {
   EXPECT_FALSE(fs::exists(dir_));
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd_demos

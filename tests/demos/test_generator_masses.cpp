@@ -16,6 +16,7 @@
 
 namespace xpbd_demos {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using xpbd::Real;
 using xpbd::Vec3;
@@ -99,5 +100,6 @@ TEST(GeneratorMasses, BadEntriesNameTheGeneratorAndEntry) {
   EXPECT_NE(error(r).find("rope.velocity"), std::string::npos) << error(r);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd_demos

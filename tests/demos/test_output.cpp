@@ -18,6 +18,7 @@
 
 namespace xpbd_demos {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 namespace fs = std::filesystem;
 
@@ -117,5 +118,6 @@ TEST_F(Output, UnwritableDirectoryIsRefusedNamingIt) {
   EXPECT_TRUE(fs::is_empty(dir_ / "a" / "b"));
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd_demos

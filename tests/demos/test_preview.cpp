@@ -20,6 +20,7 @@
 
 namespace xpbd_demos {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 namespace fs = std::filesystem;
 using xpbd::Index;
@@ -269,5 +270,6 @@ TEST(PreviewFrameNumbers, SpreadEvenlyWithFirstAndLast) {
   EXPECT_THROW((void)preview_frame_numbers(10, 0), std::invalid_argument);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd_demos

@@ -14,6 +14,7 @@
 
 namespace xpbd_demos {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using xpbd::Real;
 using xpbd::Vec3;
@@ -128,5 +129,6 @@ TEST(RunStatus, EnergyFromAKinematicBodyIsNotTheSolvers) {
   }
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd_demos

@@ -12,6 +12,7 @@
 
 namespace xpbd_demos {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using xpbd::Real;
 using xpbd::Vec3;
@@ -123,5 +124,6 @@ TEST(RunTolerance, BulletSaysItDoesNotUseIt) {
   EXPECT_EQ(r.mean_substeps, 0);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd_demos

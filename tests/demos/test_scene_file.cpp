@@ -31,6 +31,7 @@
 #endif
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -556,4 +557,5 @@ TEST(SceneFile, SetOverridesExistingFieldsOnly) {
   }
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

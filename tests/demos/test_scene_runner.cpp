@@ -20,6 +20,7 @@
 
 namespace xpbd_demos {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using xpbd::Index;
 using xpbd::Real;
@@ -580,5 +581,6 @@ TEST(SceneRunner, NonFiniteRunStopsAndReportsIt) {
   }
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd_demos

@@ -14,6 +14,7 @@
 
 namespace xpbd_demos {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 RunOptions options(const SceneSpec& spec, Solver solver, bool stages, int frames = 5) {
   RunOptions o = run_options(spec);
@@ -82,5 +83,6 @@ TEST(SceneStages, BulletRunHasNoBreakdown) {
   EXPECT_TRUE(noted);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd_demos

@@ -15,6 +15,7 @@
 #include "demos/compare/stability.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_stability;
 
@@ -277,4 +278,5 @@ TEST(StabilityClassify, OutcomeNames) {
   EXPECT_STREQ(outcome_name(Outcome::tunnelled), "tunnelled");
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

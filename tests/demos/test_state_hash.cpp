@@ -22,6 +22,7 @@
 
 namespace xpbd_demos {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using xpbd::Real;
 using xpbd::Vec3;
@@ -103,5 +104,6 @@ TEST(StateHash, OneBitOfAnyValueChangesIt) {
   EXPECT_TRUE(differs([](auto& x2, auto& v2, auto&) { std::swap(x2, v2); }));
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd_demos

@@ -21,6 +21,7 @@
 #include "support.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::SystemSettings;
@@ -346,4 +347,5 @@ TEST(CouplingLag, SwingingBoxMatchesTheSameBodySolvedByXpbd) {
   EXPECT_LT(dq, Real(1e6) * kEps * turned);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

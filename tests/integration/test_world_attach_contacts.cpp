@@ -11,6 +11,7 @@
 #include "support.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::SystemSettings;
@@ -72,4 +73,5 @@ TEST(WorldAttachContacts, AttachedParticleIsNotPushedOffItsBody) {
   EXPECT_LT(std::abs(local.z()), a);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

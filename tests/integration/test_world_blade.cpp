@@ -34,6 +34,7 @@
 #include "xpbd_bullet/narrowphase.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::SystemSettings;
@@ -144,4 +145,5 @@ TEST(WorldBlade, ThinFastBladeStaysOnItsSideOfTheCloth) {
   EXPECT_GE(off.frames_cut, 20);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

@@ -12,6 +12,7 @@
 #include "support.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::SystemSettings;
@@ -79,4 +80,5 @@ TEST(WorldChains, RopeHoldsAHeavyBulletBoxAtItsClosedFormStretch) {
   EXPECT_LT(direct.box_drift, Real(1e-4));
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

@@ -22,6 +22,7 @@
 #include "xpbd_bullet/narrowphase.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::SystemSettings;
@@ -116,4 +117,5 @@ INSTANTIATE_TEST_SUITE_P(Boxes, ClothUnderBox,
                                            Case{"on_edge_2kg", 2, Real(0.2), Real(0.3)}),
                          [](const ::testing::TestParamInfo<Case>& i) { return std::string(i.param.name); });
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

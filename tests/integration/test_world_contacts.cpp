@@ -17,6 +17,7 @@
 #include "support.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::SystemSettings;
@@ -305,4 +306,5 @@ TEST_P(RemovedSupport, ClothFallsFreelyAfterItsSupportIsRemovedAndDeleted) {
 
 INSTANTIATE_TEST_SUITE_P(StaticAndDynamic, RemovedSupport, ::testing::Bool());
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

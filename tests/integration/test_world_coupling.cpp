@@ -21,6 +21,7 @@
 #include "support.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::SystemSettings;
@@ -341,4 +342,5 @@ TEST(WorldCoupling, HeavyBallOnTrampolineDoesNotTunnelAndComesToRest) {
   EXPECT_LT(extent, Real(0.01));
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

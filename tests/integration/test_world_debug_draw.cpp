@@ -8,6 +8,7 @@
 #include "support.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::XpbdWorld;
@@ -121,4 +122,5 @@ TEST(WorldDebugDraw, ContactsOfAClothRestingOnTheGround) {
   xw.debugDraw(nullptr);  // no drawer: nothing happens
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

@@ -23,6 +23,7 @@
 #include "xpbd_bullet/narrowphase.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::XpbdWorld;
@@ -78,4 +79,5 @@ TEST(WorldFastBody, BoxAtTenMetresPerSecondPushesParticlesAhead) {
   }
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

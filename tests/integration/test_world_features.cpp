@@ -27,6 +27,7 @@
 #include "support.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::SystemSettings;
@@ -545,4 +546,5 @@ INSTANTIATE_TEST_SUITE_P(Coefficients, Restitution,
                                            std::make_tuple(0.8, 0.6), std::make_tuple(0.95, 1.0),
                                            std::make_tuple(1.0, 0.95), std::make_tuple(1.0, 1.0)));
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

@@ -12,6 +12,7 @@
 #include "support.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::SystemSettings;
@@ -122,4 +123,5 @@ TEST(WorldHook, FailedStepIsRecordedNotThrownAndOtherSystemsGoOn) {
   EXPECT_THROW((void)xw.error(xpbd_bullet::SystemId(99)), std::out_of_range);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

@@ -12,6 +12,7 @@
 #include "support.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::SystemSettings;
@@ -108,4 +109,5 @@ TEST(WorldMaterials, BadChangesAreRefusedAndChangeNothing) {
   for (const xpbd::Distance& e : xw.model(id).distance_by_colour) EXPECT_EQ(e.mat.damping, Real(2));
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

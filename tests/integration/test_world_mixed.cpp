@@ -15,6 +15,7 @@
 #include "support.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::SystemSettings;
@@ -340,4 +341,5 @@ TEST(WorldMixed, SoftCubeThrownDownTheStairsComesToRestOnALowerStep) {
   EXPECT_LT(r.ke, Real(1e-4) * 1 * kG * kRise);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

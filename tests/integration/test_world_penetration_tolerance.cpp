@@ -17,6 +17,7 @@
 #include "xpbd_bullet/narrowphase.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::SystemSettings;
@@ -125,4 +126,5 @@ TEST(WorldPenetrationTolerance, AtMaxSubstepsAStepAboveItIsReported) {
   EXPECT_LE(r.most, 10);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

@@ -10,6 +10,7 @@
 #include "xpbd/error.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::XpbdWorld;
@@ -95,4 +96,5 @@ TEST(WorldRaycast, FailedSystemIsNotTestedAndBadRaysAreNamed) {
   }
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

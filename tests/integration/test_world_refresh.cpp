@@ -14,6 +14,9 @@
 #include "xpbd_bullet/narrowphase.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
+
+namespace {
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::SystemSettings;
@@ -114,4 +117,7 @@ TEST(WorldRefresh, RefreshedPairKeepsOneContact) {
   EXPECT_EQ(duplicated, 0);
 }
 
+}  // namespace
+
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

@@ -14,6 +14,7 @@
 #include "support.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::SystemSettings;
@@ -123,4 +124,5 @@ TEST(WorldReport, CallbackRunsOncePerInternalStepAndItsErrorsStayInside) {
   EXPECT_THROW(xw.set_step_callback(ia, {}), std::out_of_range);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

@@ -27,6 +27,7 @@
 #include "support.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::SystemSettings;
@@ -89,4 +90,5 @@ TEST(WorldRestingBox, CoupledBoxUnderAClothStaysAtItsRestHeight) {
   }
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

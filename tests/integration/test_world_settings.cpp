@@ -13,6 +13,7 @@
 #include "support.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::SystemSettings;
@@ -190,4 +191,5 @@ TEST(WorldSettings, NonFiniteBodyIsLeftOutAndTheSystemsGoOn) {
   EXPECT_NEAR(xw.state(ib).x[0].y(), fallen(Real(10.0), 3, 10), 1e3 * kEps * 10);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

@@ -16,6 +16,7 @@
 #include "xpbd_bullet/narrowphase.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::SystemSettings;
@@ -112,4 +113,5 @@ TEST(Settle, RigidAttachmentIsAtItsPointAfterBulletMovesTheBody) {
   EXPECT_LE(on.attach_error, 64 * kEps);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

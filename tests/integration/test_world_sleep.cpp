@@ -17,6 +17,7 @@
 #include "support.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::SystemSettings;
@@ -168,4 +169,5 @@ TEST(WorldSleep, ClothUnderABodyThatBulletKeepsAwakeStaysAwake) {
   EXPECT_NEAR(Real(box->getCenterOfMassPosition().y()) - half.y(), 2 * kT, 1e-3);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

@@ -26,6 +26,7 @@
 #include "xpbd_bullet/narrowphase.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::SystemSettings;
@@ -113,4 +114,5 @@ TEST(Spacers, ClothBetweenTwoBodiesThatBulletPushesTogether) {
   EXPECT_LE(on.deepest, Real(0));
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

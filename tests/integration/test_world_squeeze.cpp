@@ -40,6 +40,7 @@
 #include "xpbd_bullet/narrowphase.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::SystemSettings;
@@ -273,4 +274,5 @@ TEST(SqueezeTolerance, StepSolvedAgainAfterARefreshStartsFromItsOwnBodies) {
   EXPECT_GT(both, 0) << "no step both refreshed contacts and was solved again: the scene misses the case";
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

@@ -29,6 +29,7 @@
 #include "support.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 using xpbd_bullet::SystemSettings;
@@ -165,4 +166,5 @@ TEST(WorldTriangleFriction, ClothStaysOnAFreeBoxRidge) {
   EXPECT_GT(without, Real(1));              // control: slid off and fell
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

@@ -21,6 +21,7 @@
 #include "support.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
 
@@ -77,4 +78,5 @@ TEST(WorldVariableDt, ShortStepsAddNoEnergy) {
   EXPECT_LE(thirty.next_second, Real(1.1) * control.next_second);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

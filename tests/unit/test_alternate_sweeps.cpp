@@ -16,6 +16,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 // A 12-particle rope pinned at one end, released horizontally: the sweep
 // direction decides which end the corrections favour, so forward-only and
@@ -65,5 +66,6 @@ TEST(AlternateSweeps, ParityCarriesAcrossStepCalls) {
   EXPECT_GT(diff, Real(1e-5));
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

@@ -17,6 +17,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using test::kEps;
 
@@ -622,5 +623,6 @@ TEST(BuildersHelpers, EdgePathDistancesOnAChainAndUnreachable) {
   EXPECT_TRUE(std::isinf(d[3]));
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

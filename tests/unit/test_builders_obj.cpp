@@ -16,6 +16,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using test::kEps;
 
@@ -209,5 +210,6 @@ TEST_F(ObjFiles, BadFilesNameThePath) {
   EXPECT_THROW(io::load_obj(missing), SceneError);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

@@ -11,6 +11,7 @@
 #include "xpbd/xpbd.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using xpbd::Index;
 using xpbd::Real;
@@ -222,4 +223,5 @@ TEST(DirectChains, BadConfigurationsAreNamed) {
   EXPECT_NE(message(cfg).find("use compile"), std::string::npos);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

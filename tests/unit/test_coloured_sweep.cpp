@@ -32,6 +32,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using test::kEps;
 
@@ -503,5 +504,6 @@ TEST(ColouredSweep, HangingClothFollowsArrayOrder) {
   EXPECT_LT(worst, Real(0.01));
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

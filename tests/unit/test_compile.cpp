@@ -10,6 +10,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using test::scene_error_names;
 
@@ -198,5 +199,6 @@ TEST(Compile, PlaneNormalIsNormalized) {
   EXPECT_EQ(m.planes[0].offset, Real(2));
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

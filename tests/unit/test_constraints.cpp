@@ -11,6 +11,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using test::kEps;
 
@@ -209,5 +210,6 @@ TEST(ConstraintGradient, UndefinedDirectionIsReportedNotNaN) {
   EXPECT_NEAR(g[1].x(), 1, 8 * kEps);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

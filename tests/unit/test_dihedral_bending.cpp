@@ -14,6 +14,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using test::kEps;
 constexpr Real kPi = std::numbers::pi_v<Real>;
@@ -213,5 +214,6 @@ TEST(DihedralBending, DegenerateConfigurationsStayFinite) {
         for (Method method : {Method::xpbd, Method::pbd}) expect_finite_after_steps(x, rest, alpha, method);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

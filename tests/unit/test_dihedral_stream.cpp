@@ -31,6 +31,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using test::kEps;
 
@@ -217,5 +218,6 @@ TEST(DihedralStream, StepReturnsTheMultipliersToTheirElements) {
   EXPECT_GT(nonzero, int(order.size()) / 2);  // the falling cloth bends
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

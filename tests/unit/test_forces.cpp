@@ -18,6 +18,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 constexpr int N = 20;
 constexpr Real kMass = 1, kG = 10, kSpacing = Real(0.01);
@@ -150,5 +151,6 @@ TEST(Forces, UnsteppedStateIsRefused) {
   EXPECT_THROW((void)max_constraint_forces(model, s), ConfigError);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

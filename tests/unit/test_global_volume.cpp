@@ -14,6 +14,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using test::kEps;
 using Tri = std::array<Index, 3>;
@@ -184,5 +185,6 @@ TEST(GlobalVolume, DegenerateConfigurationsStayFinite) {
       }
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

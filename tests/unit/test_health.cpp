@@ -9,6 +9,7 @@
 #include "xpbd/health.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using xpbd::Health;
 using xpbd::HealthObservation;
@@ -141,4 +142,5 @@ TEST(Health, ThresholdsAreChecked) {
   EXPECT_NE(message(t).find("solver.bound"), std::string::npos);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

@@ -18,6 +18,7 @@
 #include "xpbd/xpbd.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using xpbd::Index;
 using xpbd::Real;
@@ -216,4 +217,5 @@ TEST(Hierarchy, SlackMustBeFiniteAndNonNegative) {
   }
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

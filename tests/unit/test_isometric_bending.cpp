@@ -13,6 +13,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using test::kEps;
 
@@ -204,5 +205,6 @@ TEST(IsometricBending, DegenerateConfigurationsStayFinite) {
       }
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

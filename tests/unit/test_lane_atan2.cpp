@@ -17,6 +17,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using test::kEps;
 using detail::ScalarLane;
@@ -58,5 +59,6 @@ TEST(LaneAtan2, AxesAndSignsAreExact) {
     for (Real x : {Real(-2), Real(0.5), Real(4)}) EXPECT_EQ(lane(-y, x), -lane(y, x));
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

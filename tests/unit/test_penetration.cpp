@@ -12,6 +12,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using test::kEps;
 
@@ -195,5 +196,6 @@ TEST(Penetration, PointInPlaneIsPushedToNormalSide) {
   EXPECT_NEAR(st.x[0].z(), Real(0.05), 16 * kEps);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

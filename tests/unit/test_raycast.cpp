@@ -14,6 +14,7 @@
 #include "xpbd/raycast.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using xpbd::Index;
 using xpbd::Real;
@@ -165,4 +166,5 @@ TEST(Raycast, SurfaceTrianglesAreCheckedByCompile) {
   }
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

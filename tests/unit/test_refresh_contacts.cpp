@@ -11,6 +11,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using test::config_error_names;
 using test::kEps;
@@ -151,5 +152,6 @@ TEST(RefreshContacts, BadContactFromTheHostIsNamed) {
   }
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

@@ -11,6 +11,9 @@
 #include "xpbd/xpbd.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
+
+namespace {
 
 using xpbd::Real;
 using xpbd::Vec3;
@@ -295,4 +298,7 @@ TEST(RigidSolve, ParticleBetweenGroundAndAHeavyBodyIsARigidSpacer) {
   EXPECT_NEAR(double(s.bodies[0].x.y()), 2 * double(t) + 0.05, tol);
 }
 
+}  // namespace
+
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

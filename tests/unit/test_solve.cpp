@@ -13,6 +13,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using test::kEps;
 
@@ -300,5 +301,6 @@ TEST(Damping, NoEffectOnRigidConstraint) {
   EXPECT_EQ(sa.x[1], sb.x[1]);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

@@ -16,6 +16,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using test::kEps;
 
@@ -157,5 +158,6 @@ TEST(DihedralKernel, RigidHingeReachesItsRestAngle) {
   EXPECT_EQ(h.x[1], Vec3(1, 0, 0));
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

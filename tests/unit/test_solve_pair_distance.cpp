@@ -20,6 +20,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using test::kEps;
 
@@ -298,5 +299,6 @@ TEST(PairDistanceKernel, ReverseSweepIsForwardSweepOverReversedElements) {
   }
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

@@ -18,6 +18,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using Pair = std::pair<Index, Index>;
 
@@ -362,5 +363,6 @@ TEST(SelfCollision, NoReallocationOnceSized) {
   EXPECT_TRUE(test::all_finite(s));
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

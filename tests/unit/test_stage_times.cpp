@@ -15,6 +15,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 constexpr int kSteps = 5, kSubsteps = 4, kIterations = 3;
 
@@ -152,5 +153,6 @@ TEST(StageTimes, AccumulatesAcrossRunsAndClears) {
   EXPECT_EQ(sum.calls[stage::predict], 0);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

@@ -9,6 +9,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using test::all_finite;
 using test::config_error_names;
@@ -279,5 +280,6 @@ TEST(KinematicPin, FollowsCircularTargetExactly) {
   }
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

@@ -15,6 +15,7 @@
 #include "xpbd/xpbd.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd;
 
@@ -79,4 +80,5 @@ TEST(StepDtChange, ConstantStepIsThePlainUpdate) {
   for (std::size_t i = 0; i < a.s.v.size(); ++i) ASSERT_EQ(a.s.v[i], b.s.v[i]) << "particle " << i;
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

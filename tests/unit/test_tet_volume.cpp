@@ -11,6 +11,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using test::kEps;
 
@@ -118,5 +119,6 @@ TEST(TetVolume, DegenerateConfigurationsStayFinite) {
       }
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

@@ -14,6 +14,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 TEST(Workers, EveryTaskRunsExactlyOnce) {
   for (int threads : {1, 2, 4}) {
@@ -133,5 +134,6 @@ TEST(Workers, ThreadedColouredStepIsBitwiseTheSingleThreadedOne) {
   check_bitwise(Method::xpbd, 4, true, true);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

@@ -11,6 +11,7 @@
 #include "xpbd/xpbd.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using xpbd::Real;
 using xpbd::Vec3;
@@ -199,4 +200,5 @@ TEST(WorldContact, BadContactsAreRejectedByName) {
   }
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

@@ -13,6 +13,7 @@
 #include "xpbd/xpbd.hpp"
 
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using xpbd::Index;
 using xpbd::Real;
@@ -140,4 +141,5 @@ TEST(ContactSqueeze, ParticleBetweenTwoBodiesConservesMomentumAndKeepsThem2tApar
   EXPECT_LT((p1 - p0).norm(), Real(1e-9) + Real(1e3) * std::numeric_limits<Real>::epsilon());
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace

@@ -20,6 +20,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using test::kEps;
 constexpr Real kPi = std::numbers::pi_v<Real>;
@@ -115,5 +116,6 @@ TEST(DihedralBendingRest, TorsionalPeriodMatchesCompliance) {
   }
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

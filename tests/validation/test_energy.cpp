@@ -20,6 +20,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using test::kEps;
 
@@ -107,5 +108,6 @@ TEST(Energy, NumericalDampingShrinksLinearlyWithSubstep) {
   EXPECT_NEAR(lf, -w * w * t / 2400, 0.1 * w * w * t / 2400);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

@@ -17,6 +17,7 @@
 
 namespace xpbd_demos {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using xpbd::Method;
 
@@ -76,5 +77,6 @@ TEST(Fig5, ControlXpbdWithoutConvergenceSpreadsToo) {
   EXPECT_GT(max_spread(xpbd, &Fig5Sample::centre_y, kFrom), 0.05);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd_demos

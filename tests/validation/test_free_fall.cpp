@@ -20,6 +20,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using test::kEps;
 
@@ -79,5 +80,6 @@ TEST(FreeFall, KinematicParticleMovesAtConstantVelocity) {
   EXPECT_NEAR(s.v[0].y(), Real(-0.25), 4 * kEps * 5 / (cfg.dt / Real(cfg.substeps)));
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

@@ -26,6 +26,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using test::kEps;
 using Tri = std::array<Index, 3>;
@@ -194,5 +195,6 @@ TEST(GlobalVolumeBalloon, RestingOnFloorKeepsVolume) {
   EXPECT_LT(lowest, Real(1e-3));  // it reached the floor
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

@@ -26,6 +26,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 constexpr int N = 20;
 constexpr Real m = 1, g = 10, l = Real(0.01);
@@ -123,5 +124,6 @@ TEST(HangingChain, DirectSolveStretchesEachLinkByItsCompliance) {
   EXPECT_LT(direct, round_off);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

@@ -16,6 +16,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 constexpr Real kMass = Real(0.1);  // kg, per wing
 // Edge (0,0,0)-(1,0,0), wings at x = 0.5 and height 1: A0 + A1 = 1 m^2,
@@ -105,5 +106,6 @@ TEST(IsometricBendingRest, SmallOscillationPeriodMatchesBergouStiffness) {
   EXPECT_NEAR(period / expected, 1, 1e-3);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

@@ -28,6 +28,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 constexpr Real kG = Real(9.81);  // m/s^2
 
@@ -169,5 +170,6 @@ TEST(IterationDependence, ChainXpbdStiffnessIndependentPbdNot) {
   EXPECT_GT(ptotal20 / ptotal80, 2);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

@@ -17,6 +17,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using test::kEps;
 
@@ -95,5 +96,6 @@ TEST(Momentum, InternalConstraintsConserveLinearMomentum) {
   EXPECT_LT((com / M - (com0 / M + (s.time / M) * p0)).norm(), n_sub * n_sub / 2 * R * kEps * X);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

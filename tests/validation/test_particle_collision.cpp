@@ -18,6 +18,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using test::kEps;
 
@@ -156,5 +157,6 @@ TEST(ParticleCollision, CollisionsAloneConserveLinearMomentum) {
               int(n), double(p0.norm()), double(worst), double(bound), contact_steps);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

@@ -35,6 +35,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 constexpr int kN = 16;                           // particles per side
 constexpr Real kSize = 1;                        // m
@@ -208,5 +209,6 @@ TEST(ParticleCollisionCloth, WithoutCollisionTheHalvesPassThrough) {
   EXPECT_LT(r.min_within, kDist / 2);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

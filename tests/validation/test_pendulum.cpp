@@ -27,6 +27,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 constexpr double kPi = std::numbers::pi;
 
@@ -80,5 +81,6 @@ TEST(Pendulum, PeriodMatchesLargeAmplitudeSeries) {
   EXPECT_NEAR(lost, predicted, 0.1 * predicted);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

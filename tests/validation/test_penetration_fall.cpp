@@ -13,6 +13,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using test::kEps;
 constexpr Real kThickness = Real(0.05);  // m
@@ -87,5 +88,6 @@ TEST(PenetrationFall, ParticleBelowStaysBelow) {
   }
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

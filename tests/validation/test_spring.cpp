@@ -31,6 +31,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 constexpr double kPi = std::numbers::pi;
 
@@ -135,5 +136,6 @@ TEST(Spring, PeriodApproachesContinuousAsStepShrinks) {
   EXPECT_LT(prev_err, 4e-4);  // at h = 1 ms: (w h)^2/3 = 3.3e-4
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

@@ -16,6 +16,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using test::kEps;
 
@@ -84,5 +85,6 @@ TEST(TetVolumeRecovery, StaticLoadMatchesCompliance) {
   EXPECT_NEAR(st.x[3].y(), 0, 16 * kEps);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd

@@ -17,6 +17,7 @@
 
 namespace xpbd {
 namespace {
+namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using test::kEps;
 
@@ -74,5 +75,6 @@ TEST(TetherCloth, TethersReduceMaxStretch) {
   EXPECT_LE(tied.max_tether_excess, 64 * kEps);
 }
 
+}  // namespace XPBD_TEST_FILE_ID
 }  // namespace
 }  // namespace xpbd
