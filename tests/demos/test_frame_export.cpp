@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "demos/frame_export.hpp"
+#include "support/xpbd_test.hpp"
 #include "xpbd/error.hpp"
 
 namespace xpbd_demos {
@@ -31,26 +32,10 @@ using xpbd::Real;
 using xpbd::Vec3;
 using Tri = std::array<Index, 3>;
 using Line = std::array<Index, 2>;
+using xpbd::test::throws_naming;
 
 constexpr Real kEps = std::numeric_limits<Real>::epsilon();
 constexpr Real kPi = std::numbers::pi_v<Real>;
-
-// Runs f; it must throw E with every part in its message.
-template <class E, class F>
-::testing::AssertionResult throws_naming(F&& f, std::initializer_list<std::string> parts) {
-  try {
-    f();
-  } catch (const E& e) {
-    const std::string msg = e.what();
-    for (const std::string& p : parts)
-      if (msg.find(p) == std::string::npos)
-        return ::testing::AssertionFailure() << "message \"" << msg << "\" lacks \"" << p << "\"";
-    return ::testing::AssertionSuccess() << msg;
-  } catch (const std::exception& e) {
-    return ::testing::AssertionFailure() << "threw another exception: " << e.what();
-  }
-  return ::testing::AssertionFailure() << "did not throw";
-}
 
 // Volume enclosed by a closed, outward-wound triangle mesh (divergence
 // theorem: the sum of the signed tetrahedra origin-a-b-c).

@@ -52,6 +52,31 @@ inline ::testing::AssertionResult config_error_names(const Model& m, State& s, c
   return ::testing::AssertionFailure() << "step() accepted the config";
 }
 
+// Runs f; it must throw E (and nothing else) with every string of `parts` in
+// its message.
+template <class E, class F>
+::testing::AssertionResult throws_naming(F&& f, std::initializer_list<std::string> parts) {
+  try {
+    f();
+  } catch (const E& e) {
+    const std::string msg = e.what();
+    for (const std::string& p : parts)
+      if (msg.find(p) == std::string::npos)
+        return ::testing::AssertionFailure() << "message \"" << msg << "\" lacks \"" << p << "\"";
+    return ::testing::AssertionSuccess() << msg;
+  } catch (const std::exception& e) {
+    return ::testing::AssertionFailure() << "threw another exception: " << e.what();
+  }
+  return ::testing::AssertionFailure() << "did not throw";
+}
+
+// Sum of a scene's particle masses (kg).
+inline Real total_mass(const SceneDesc& s) {
+  Real m = 0;
+  for (Real x : s.masses) m += x;
+  return m;
+}
+
 inline bool all_finite(const std::vector<Vec3>& v) {
   for (const Vec3& x : v)
     if (!x.allFinite()) return false;
