@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # ThreadSanitizer pass over what runs on several threads: xpbd::Workers and
-# the threaded coloured sweep (StepConfig::workers, SystemSettings::workers).
+# the threaded coloured sweeps (StepConfig::workers, SystemSettings::workers).
 # Not part of CI (scripts/test.sh); run it after changing workers.cpp or the
 # stream code.
 #
@@ -13,9 +13,10 @@ bash scripts/setup.sh double >/dev/null  # the packages (and a normal build)
 cmake -S . -B build/tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DXPBD_DOUBLE=ON \
   -DXPBD_BUILD_BENCHMARKS=OFF -DXPBD_BUILD_DEMOS=OFF \
   -DCMAKE_CXX_FLAGS="-fsanitize=thread" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=thread" >/dev/null
-# The test suites of tests/unit/test_workers.cpp, test_distance_stream.cpp
-# and tests/integration/test_world_settings.cpp, in their label's executable.
-runs=("xpbd_tests_unit Workers.*:DistanceStream.*" "xpbd_tests_integration WorldSettings.*")
+# The test suites of tests/unit/test_workers.cpp, test_distance_stream.cpp,
+# test_tether_stream.cpp and tests/integration/test_world_settings.cpp, in
+# their label's executable.
+runs=("xpbd_tests_unit Workers.*:DistanceStream.*:TetherStream.*" "xpbd_tests_integration WorldSettings.*")
 cmake --build build/tsan -j"$(nproc)" --target xpbd_tests_unit xpbd_tests_integration
 for r in "${runs[@]}"; do
   read -r exe filter <<<"$r"

@@ -19,6 +19,7 @@ namespace {
 namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using test::kEps;
+using test::throws_naming;
 
 // A fresh directory per test, removed afterwards.
 class ObjFiles : public ::testing::Test {
@@ -40,23 +41,6 @@ class ObjFiles : public ::testing::Test {
 
   std::filesystem::path dir_;
 };
-
-// Runs f; it must throw io::ObjError with every part in the message.
-template <class F>
-::testing::AssertionResult obj_error_names(F&& f, std::initializer_list<std::string> parts) {
-  try {
-    f();
-  } catch (const io::ObjError& e) {
-    const std::string msg = e.what();
-    for (const std::string& p : parts)
-      if (msg.find(p) == std::string::npos)
-        return ::testing::AssertionFailure() << "message \"" << msg << "\" lacks \"" << p << "\"";
-    return ::testing::AssertionSuccess() << msg;
-  } catch (const std::exception& e) {
-    return ::testing::AssertionFailure() << "threw a non-ObjError: " << e.what();
-  }
-  return ::testing::AssertionFailure() << "did not throw";
-}
 
 // Regular tetrahedron (edge sqrt(8)), faces counter-clockwise seen from
 // outside, with the extras a real file has: comments, an object name,
@@ -142,7 +126,7 @@ TEST_F(ObjFiles, OpenQuadAsClothAndAsClosedSurface) {
   // (1, 2) in the file's numbering.
   SceneDesc s2;
   d.kind = MeshKind::closed_surface;
-  EXPECT_TRUE(obj_error_names([&] { io::add_obj_mesh(s2, path, d); },
+  EXPECT_TRUE(throws_naming<io::ObjError>([&] { io::add_obj_mesh(s2, path, d); },
                               {path, "not closed", "edge (1, 2)"}));
   EXPECT_EQ(s2.num_particles(), 0);
 }
@@ -151,7 +135,7 @@ TEST_F(ObjFiles, PolygonFaceIsAnErrorUnlessTriangulated) {
   const std::string path =
       write("poly.obj", "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4 2\n");
   // Error names the face by its line and its number among the faces.
-  EXPECT_TRUE(obj_error_names([&] { io::load_obj(path); }, {path, "line 6", "face 2", "4 vertices"}));
+  EXPECT_TRUE(throws_naming<io::ObjError>([&] { io::load_obj(path); }, {path, "line 6", "face 2", "4 vertices"}));
 
   const std::string quad = write("quad4.obj", "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 0 1 0\nf 1 2 3 4\n");
   const TriangleMesh m = io::load_obj(quad, io::ObjOptions{true});
@@ -174,37 +158,37 @@ TEST_F(ObjFiles, NegativeIndicesCountFromTheEnd) {
 
 TEST_F(ObjFiles, BadFilesNameThePath) {
   const std::string missing = (dir_ / "does_not_exist.obj").string();
-  EXPECT_TRUE(obj_error_names([&] { io::load_obj(missing); }, {missing, "no such file"}));
+  EXPECT_TRUE(throws_naming<io::ObjError>([&] { io::load_obj(missing); }, {missing, "no such file"}));
 
   const std::string empty = write("nofaces.obj", "# nothing but vertices\nv 0 0 0\nv 1 0 0\n");
-  EXPECT_TRUE(obj_error_names([&] { io::load_obj(empty); }, {empty, "no faces"}));
+  EXPECT_TRUE(throws_naming<io::ObjError>([&] { io::load_obj(empty); }, {empty, "no faces"}));
 
   const std::string text = write("notes.obj", "this is not an OBJ file\njust words\n");
-  EXPECT_TRUE(obj_error_names([&] { io::load_obj(text); }, {text}));
+  EXPECT_TRUE(throws_naming<io::ObjError>([&] { io::load_obj(text); }, {text}));
 
   // A face using a vertex the file does not have.
   const std::string range = write("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
-  EXPECT_TRUE(obj_error_names([&] { io::load_obj(range); }, {range, "line 4", "vertex 9", "3 vertices"}));
+  EXPECT_TRUE(throws_naming<io::ObjError>([&] { io::load_obj(range); }, {range, "line 4", "vertex 9", "3 vertices"}));
   const std::string before = write("before.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n");
-  EXPECT_TRUE(obj_error_names([&] { io::load_obj(before); }, {before, "line 4", "-4"}));
+  EXPECT_TRUE(throws_naming<io::ObjError>([&] { io::load_obj(before); }, {before, "line 4", "-4"}));
 
   // What tinyobjloader alone would accept silently (a non-number read as 0,
   // a two-vertex face dropped, a fractional index truncated) is an error
   // naming the line.
   const std::string nan = write("nan.obj", "v 0 0 0\nv 1 zero 0\nv 0 1 0\nf 1 2 3\n");
-  EXPECT_TRUE(obj_error_names([&] { io::load_obj(nan); }, {nan, "line 2", "'zero'"}));
+  EXPECT_TRUE(throws_naming<io::ObjError>([&] { io::load_obj(nan); }, {nan, "line 2", "'zero'"}));
   const std::string two = write("two.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2\n");
-  EXPECT_TRUE(obj_error_names([&] { io::load_obj(two); }, {two, "line 5", "face 2", "2 vertices"}));
+  EXPECT_TRUE(throws_naming<io::ObjError>([&] { io::load_obj(two); }, {two, "line 5", "face 2", "2 vertices"}));
   const std::string frac = write("frac.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 2.5\n");
-  EXPECT_TRUE(obj_error_names([&] { io::load_obj(frac); }, {frac, "line 4", "'2.5'"}));
+  EXPECT_TRUE(throws_naming<io::ObjError>([&] { io::load_obj(frac); }, {frac, "line 4", "'2.5'"}));
   const std::string short_v = write("short.obj", "v 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
-  EXPECT_TRUE(obj_error_names([&] { io::load_obj(short_v); }, {short_v, "line 1", "3 coordinates"}));
+  EXPECT_TRUE(throws_naming<io::ObjError>([&] { io::load_obj(short_v); }, {short_v, "line 1", "3 coordinates"}));
 
   // Builder errors come back as ObjError naming the file and the vertex in
   // the file's numbering: vertex 4 is in no face.
   const std::string extra = write("extra.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 5 5\nf 1 2 3\n");
   SceneDesc s;
-  EXPECT_TRUE(obj_error_names([&] { io::add_obj_mesh(s, extra, TriangleMeshDesc{}); },
+  EXPECT_TRUE(throws_naming<io::ObjError>([&] { io::add_obj_mesh(s, extra, TriangleMeshDesc{}); },
                               {extra, "vertex 4", "no triangle"}));
   // ObjError is a SceneError: callers handling bad scenes handle bad files.
   EXPECT_THROW(io::load_obj(missing), SceneError);

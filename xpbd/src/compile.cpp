@@ -264,9 +264,11 @@ void compile_global_volumes(const SceneDesc& s, Model& m) {
 // element k takes the smallest colour that no earlier element sharing one
 // of its particles has. The colours are then laid out one after another,
 // each in array order (a stable counting sort). Cost: O(sum over elements
-// of the degrees of their particles).
+// of the degrees of their particles). With `inv_mass`, particles whose
+// inverse mass is 0 do not count as shared (Model::tether_colours).
 template <class T>
-ColourSchedule colour_elements(const std::vector<T>& cs, Index num_particles) {
+ColourSchedule colour_elements(const std::vector<T>& cs, Index num_particles,
+                               const std::vector<Real>* inv_mass = nullptr) {
   ColourSchedule out;
   if (cs.empty()) return out;
   // used[i]: the colours of the elements seen so far that touch particle i.
@@ -274,6 +276,7 @@ ColourSchedule colour_elements(const std::vector<T>& cs, Index num_particles) {
   std::vector<Index> colour(cs.size());
   std::vector<char> taken;  // scratch, indexed by colour, all 0 between elements
   Index ncol = 0;
+  auto counts = [&](Index p) { return inv_mass == nullptr || (*inv_mass)[static_cast<std::size_t>(p)] != Real(0); };
   for (std::size_t k = 0; k < cs.size(); ++k) {
     taken.resize(static_cast<std::size_t>(ncol) + 1, 0);
     for (Index p : cs[k].p)
@@ -283,7 +286,8 @@ ColourSchedule colour_elements(const std::vector<T>& cs, Index num_particles) {
     for (Index p : cs[k].p)
       for (Index u : used[static_cast<std::size_t>(p)]) taken[static_cast<std::size_t>(u)] = 0;
     colour[k] = c;
-    for (Index p : cs[k].p) used[static_cast<std::size_t>(p)].push_back(c);
+    for (Index p : cs[k].p)
+      if (counts(p)) used[static_cast<std::size_t>(p)].push_back(c);
     ncol = std::max(ncol, c + 1);
   }
   out.begin.assign(static_cast<std::size_t>(ncol) + 1, 0);
@@ -468,6 +472,8 @@ Model compile(const SceneDesc& s) {
   m.distance_stream = detail::make_distance_stream(m);
   m.dihedral_colours = colour_elements(m.get<DihedralBending>(), n);
   m.dihedral_stream = detail::make_dihedral_stream(m);
+  m.tether_colours = colour_elements(m.get<Tether>(), n, &m.inv_mass);
+  m.tether_stream = detail::make_tether_stream(m);
   m.chains = find_chains(m.get<Distance>(), n);
   {
     std::vector<Index> slot(m.get<Distance>().size(), 0);

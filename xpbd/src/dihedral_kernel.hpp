@@ -153,17 +153,8 @@ inline void project_dihedral_range(const DihedralArgs& s, std::size_t lo, std::s
 template <class V>
 inline void project_dihedral_variant(const DihedralArgs& s, std::size_t lo, std::size_t hi, bool damped,
                                      bool first) {
-  if (damped) {
-    if (first)
-      project_dihedral_range<V, true, true>(s, lo, hi);
-    else
-      project_dihedral_range<V, true, false>(s, lo, hi);
-  } else {
-    if (first)
-      project_dihedral_range<V, false, true>(s, lo, hi);
-    else
-      project_dihedral_range<V, false, false>(s, lo, hi);
-  }
+  dispatch_variant(damped, first,
+                   [&]<bool kDamped, bool kFirst>() { project_dihedral_range<V, kDamped, kFirst>(s, lo, hi); });
 }
 
 // Entry points (dihedral_stream.cpp; stream_avx2.cpp).

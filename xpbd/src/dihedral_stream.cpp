@@ -45,9 +45,9 @@ void dihedral_begin_step(const Model& m, State& s, Real h, Workers* workers) {
 }
 
 void dihedral_sweep(const Model& m, State& s, const SolveContext& sc, bool damped, bool simd, bool first,
-                    Workers* workers) {
+                    bool pack, Workers* workers) {
   const DihedralStream& ds = m.dihedral_stream;
-  pack_records(m, s, damped, workers);
+  if (pack) pack_records(m, s, damped, workers);
   DihedralArgs a;
   a.p[0] = ds.p0.data(), a.p[1] = ds.p1.data(), a.p[2] = ds.p2.data(), a.p[3] = ds.p3.data();
   a.rest = ds.rest.data();
@@ -91,7 +91,7 @@ void project_dihedral_stream(const Model& m, State& s, const SolveContext& sc, b
       (damped && (s.dihedral_gamma.size() != e || s.stream_x_prev.size() != s.stream_x.size())))
     throw ConfigError(
         "project_dihedral_stream: the state's stream is not prepared for this model (call prepare_stream)");
-  detail::dihedral_sweep(m, s, sc, damped, simd, false, workers);
+  detail::dihedral_sweep(m, s, sc, damped, simd, false, true, workers);
 }
 
 }  // namespace xpbd

@@ -44,4 +44,9 @@ void refresh_dihedral_stream(Model& m) {
   m.dihedral_stream = make_dihedral_stream(m);
 }
 
+void refresh_tether_stream(Model& m) {
+  if (m.tether_colours.order.size() != m.get<Tether>().size()) return;  // no schedule
+  m.tether_stream = make_tether_stream(m);
+}
+
 }  // namespace xpbd::detail

@@ -48,8 +48,9 @@ void check_state_matches(const Model& m, const State& s) {
   if (!ok) throw ConfigError("state.lambda: sizes do not match the model (use make_state)");
 }
 
-// StepConfig::coloured needs a schedule covering every Distance element
-// (compile() makes one; a Model edited afterwards may not have it).
+// StepConfig::coloured needs a schedule covering every Distance,
+// DihedralBending and Tether element (compile() makes one; a Model edited
+// afterwards may not have it).
 void check_colours(const Model& m) {
   const ColourSchedule& c = m.distance_colours;
   const std::size_t n = m.get<Distance>().size();
@@ -65,6 +66,12 @@ void check_colours(const Model& m) {
       static_cast<std::size_t>(h.begin.back()) != nh)
     throw ConfigError("StepConfig.coloured: model.dihedral_colours covers " + std::to_string(h.order.size()) +
                       " elements, the model has " + std::to_string(nh) + " DihedralBending elements (use compile)");
+  const ColourSchedule& tc = m.tether_colours;
+  const std::size_t nt = m.get<Tether>().size();
+  if (tc.order.size() != nt || m.tether_stream.size() != nt || tc.begin.empty() || tc.begin.front() != 0 ||
+      static_cast<std::size_t>(tc.begin.back()) != nt)
+    throw ConfigError("StepConfig.coloured: model.tether_colours covers " + std::to_string(tc.order.size()) +
+                      " elements, the model has " + std::to_string(nt) + " Tether elements (use compile)");
 }
 
 // Pin targets at fraction t in [0, 1] of the step.
@@ -140,9 +147,10 @@ bool refresh_escaped(const Model& m, State& s, const StepConfig& cfg, int sub, R
   return true;
 }
 
-void reset_multipliers(State& s, bool skip_distance, bool skip_dihedral) {
+void reset_multipliers(State& s, bool skip_distance, bool skip_dihedral, bool skip_tether) {
   for (std::size_t k = 0; k < s.lambda.size(); ++k)
-    if (!(skip_distance && k == type_index_v<Distance>) && !(skip_dihedral && k == type_index_v<DihedralBending>))
+    if (!(skip_distance && k == type_index_v<Distance>) && !(skip_dihedral && k == type_index_v<DihedralBending>) &&
+        !(skip_tether && k == type_index_v<Tether>))
       std::fill(s.lambda[k].begin(), s.lambda[k].end(), Real(0));
   std::fill(s.self_collision.lambda.begin(), s.self_collision.lambda.end(), Real(0));
 }
@@ -151,31 +159,50 @@ void reset_multipliers(State& s, bool skip_distance, bool skip_dihedral) {
 // (each type with elements is a stage of its own in StepConfig::times).
 // StepConfig::coloured: Distance in the order of m.distance_colours, with
 // XPBD over the compiled stream (stream.hpp; on cfg.workers when set), and
-// with XPBD DihedralBending over its own stream in the order of
-// m.dihedral_colours.
+// with XPBD DihedralBending and Tether over their own streams in the order
+// of m.dihedral_colours and m.tether_colours.
 void solve_constraints(const Model& m, State& s, const SolveContext& sc, const StepConfig& cfg, bool first,
                        StageTimes* times) {
   const bool coloured = cfg.coloured;
+  // What the particle records (State::stream_x, stream_x_prev) hold: after
+  // a stream stage has copied them back, the positions (and the substep's
+  // start, if that stage was damped), until an array-order stage moves a
+  // particle. A stream stage then need not copy the particles in again:
+  // 0 = stale, 1 = positions, 2 = positions and the substep's start.
+  int records = 0;
+  auto stream_stage = [&](bool damped, auto&& sweep) {
+    const int need = damped ? 2 : 1;
+    sweep(records < need);
+    records = std::max(records, need);
+  };
   for_each_constraint_type([&]<class T>(std::type_identity<T>) {
     const auto& cs = m.get<T>();
     if (cs.empty()) return;
     timed(times, stage::of<T>, true, [&] {
       if constexpr (!is_generic_constraint_v<T>) {
         solve_global_volumes(m, s, sc);  // GlobalVolume: variable arity, own kernel
+        records = 0;
       } else {
         std::span<const T> span(cs);
         const bool damped = m.has_damping[type_index_v<T>];
-        if constexpr (std::is_same_v<T, DihedralBending>) {
-          if (coloured && sc.method == Method::xpbd) {
-            detail::dihedral_sweep(m, s, sc, damped, cfg.simd, first, cfg.workers);
+        if (coloured && sc.method == Method::xpbd) {
+          if constexpr (std::is_same_v<T, Distance>) {
+            stream_stage(damped,
+                         [&](bool pack) { detail::stream_sweep(m, s, sc, damped, cfg.simd, first, pack, cfg.workers); });
+            return;
+          } else if constexpr (std::is_same_v<T, DihedralBending>) {
+            stream_stage(damped, [&](bool pack) {
+              detail::dihedral_sweep(m, s, sc, damped, cfg.simd, first, pack, cfg.workers);
+            });
+            return;
+          } else if constexpr (std::is_same_v<T, Tether>) {
+            stream_stage(damped,
+                         [&](bool pack) { detail::tether_sweep(m, s, sc, damped, cfg.simd, first, pack, cfg.workers); });
             return;
           }
         }
+        records = 0;
         if constexpr (std::is_same_v<T, Distance>) {
-          if (coloured && sc.method == Method::xpbd) {
-            detail::stream_sweep(m, s, sc, damped, cfg.simd, first, cfg.workers);
-            return;
-          }
           if (coloured) {
             const std::span<const T> by_colour(m.distance_by_colour);
             const std::span<const Index> order(m.distance_colours.order);
@@ -313,6 +340,8 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
   if (stream) timed(t, stage::step_setup, true, [&] { detail::stream_begin_step(m, s, h, cfg.workers); });
   const bool hinges = cfg.coloured && cfg.method == Method::xpbd && !m.get<DihedralBending>().empty();
   if (hinges) timed(t, stage::step_setup, true, [&] { detail::dihedral_begin_step(m, s, h, cfg.workers); });
+  const bool tethers = cfg.coloured && cfg.method == Method::xpbd && !m.get<Tether>().empty();
+  if (tethers) timed(t, stage::step_setup, true, [&] { detail::tether_begin_step(m, s, h, cfg.workers); });
   const bool chains = cfg.direct_chains && m.chains.size() > 0;
   std::uint64_t sweeps = 0;  // in this step
   for (int sub = 0; sub < cfg.substeps; ++sub) {
@@ -334,9 +363,9 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
       rigid::predict_bodies(s.bodies, h);
       // Lambda starts at zero every substep (Algorithm 2, line 6).
       // (The coloured XPBD sweeps' first sweep takes its multipliers as 0
-      // and writes them all; State::lambda of Distance and DihedralBending
-      // is written at the end of the step.)
-      reset_multipliers(s, stream, hinges);
+      // and writes them all; State::lambda of Distance, DihedralBending and
+      // Tether is written at the end of the step.)
+      reset_multipliers(s, stream, hinges, tethers);
     });
     // StepConfig::hierarchy: the coarse levels' one-sided pass.
     if (cfg.hierarchy)
@@ -400,6 +429,7 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
   }
   if (stream) detail::stream_end_step(m, s);
   if (hinges) detail::dihedral_end_step(m, s);
+  if (tethers) detail::tether_end_step(m, s);
   s.pin_target_prev = s.pin_target;  // same size: no allocation
   s.sweeps += sweeps;
   s.time += cfg.dt;

@@ -64,74 +64,71 @@ void unpack_records(State& s, Workers* workers) {
   });
 }
 
-namespace {
-
-using Kernel = void (*)(const StreamArgs&, std::size_t, std::size_t, bool, bool);
-
-Kernel kernel(bool simd) {
-#if XPBD_HAVE_AVX2_KERNEL
-  if (use_avx2(simd)) return &project_stream_avx2;
-#endif
-  (void)simd;
-  return &project_stream_scalar;
-}
-
-// at, 1/den and gamma of elements [lo, hi) for substeps of h (one element
-// at a time; the same operations in every build).
-void prepare_stream_range(const Index* a, const Index* b, const Real* compliance, const Real* damping,
-                                 const Real* inv_mass, Real h, bool damped, Real* at, Real* inv_den,
-                                 Real* gamma, std::size_t lo, std::size_t hi) {
+void pair_begin_step(const Model& m, State& s, const PairStream& p, bool damped, Real h, Workers* workers) {
+  const std::size_t e = p.elements.size();
+  size_records(m, s, damped);
+  p.at.resize(e);
+  p.inv_den.resize(e);
+  p.gamma.resize(damped ? e : 0);
+  p.lambda.resize(e);
   const Real inv_h = Real(1) / h;
   const Real inv_h2 = inv_h * inv_h;
-  for (std::size_t j = lo; j < hi; ++j) {
-    const Real wg = inv_mass[a[j]] + inv_mass[b[j]];
-    at[j] = compliance[j] * inv_h2;
-    Real den = wg + at[j];
-    if (damped) {
-      gamma[j] = (compliance[j] * damping[j]) * inv_h;
-      den = den + gamma[j] * wg;
-    }
-    inv_den[j] = den > Real(0) ? Real(1) / den : Real(0);
-  }
-}
-
-}  // namespace
-
-void stream_begin_step(const Model& m, State& s, Real h, Workers* workers) {
-  const std::size_t e = m.distance_stream.size();
-  const bool damped = m.has_damping[type_index_v<Distance>];
-  size_records(m, s, damped);
-  s.stream_at.resize(e);
-  s.stream_inv_den.resize(e);
-  s.stream_gamma.resize(damped ? e : 0);
-  s.stream_lambda.resize(e);
-  const DistanceStream& ds = m.distance_stream;
+  const DistanceStream& ps = p.elements;
+  const Real* const inv_mass = m.inv_mass.data();
+  Real* const at = p.at.data();
+  Real* const inv_den = p.inv_den.data();
+  Real* const gamma = p.gamma.data();
   split(workers, e, 1, [&](std::size_t lo, std::size_t hi) {
-    prepare_stream_range(ds.a.data(), ds.b.data(), ds.compliance.data(), ds.damping.data(), m.inv_mass.data(), h,
-                         damped, s.stream_at.data(), s.stream_inv_den.data(), s.stream_gamma.data(), lo, hi);
+    for (std::size_t j = lo; j < hi; ++j) {
+      const Real wg = inv_mass[ps.a[j]] + inv_mass[ps.b[j]];
+      at[j] = ps.compliance[j] * inv_h2;
+      Real den = wg + at[j];
+      if (damped) {
+        gamma[j] = (ps.compliance[j] * ps.damping[j]) * inv_h;
+        den = den + gamma[j] * wg;
+      }
+      inv_den[j] = den > Real(0) ? Real(1) / den : Real(0);
+    }
   });
 }
 
-void stream_sweep(const Model& m, State& s, const SolveContext& sc, bool damped, bool simd, bool first,
-                  Workers* workers) {
-  const DistanceStream& ds = m.distance_stream;
-  pack_records(m, s, damped, workers);
-
+void pair_sweep(const Model& m, State& s, const PairStream& p, const SolveContext& sc, bool damped, bool simd,
+                bool first, bool pack, Workers* workers) {
+  if (pack) pack_records(m, s, damped, workers);
   StreamArgs a;
-  a.a = ds.a.data();
-  a.b = ds.b.data();
-  a.rest = ds.rest.data();
-  a.at = s.stream_at.data();
-  a.inv_den = s.stream_inv_den.data();
-  a.gamma = s.stream_gamma.data();
-  a.lambda = s.stream_lambda.data();
+  a.a = p.elements.a.data();
+  a.b = p.elements.b.data();
+  a.rest = p.elements.rest.data();
+  a.at = p.at.data();
+  a.inv_den = p.inv_den.data();
+  a.gamma = p.gamma.data();
+  a.lambda = p.lambda.data();
   a.x = s.stream_x.data();
   a.x_prev = damped ? s.stream_x_prev.data() : nullptr;
-  const Kernel k = kernel(simd);
-  sweep_colours(m.distance_colours, sc.reverse, workers,
-                [&](std::size_t lo, std::size_t hi) { k(a, lo, hi, damped, first); });
-
+  const PairKernel k = use_avx2(simd) && p.avx2 != nullptr ? p.avx2 : p.scalar;
+  sweep_colours(p.colours, sc.reverse, workers, [&](std::size_t lo, std::size_t hi) { k(a, lo, hi, damped, first); });
   unpack_records(s, workers);
+}
+
+namespace {
+PairStream distance_pair(const Model& m, State& s) {
+#if XPBD_HAVE_AVX2_KERNEL
+  const PairKernel avx2 = &project_stream_avx2;
+#else
+  const PairKernel avx2 = nullptr;
+#endif
+  return {m.distance_stream, m.distance_colours, s.stream_at,     s.stream_inv_den,
+          s.stream_gamma,    s.stream_lambda,    &project_stream_scalar, avx2};
+}
+}  // namespace
+
+void stream_begin_step(const Model& m, State& s, Real h, Workers* workers) {
+  pair_begin_step(m, s, distance_pair(m, s), m.has_damping[type_index_v<Distance>], h, workers);
+}
+
+void stream_sweep(const Model& m, State& s, const SolveContext& sc, bool damped, bool simd, bool first,
+                  bool pack, Workers* workers) {
+  pair_sweep(m, s, distance_pair(m, s), sc, damped, simd, first, pack, workers);
 }
 
 void scatter_lambda(const std::vector<Index>& order, const std::vector<Real>& from, std::vector<Real>& to) {
@@ -143,17 +140,7 @@ void stream_end_step(const Model& m, State& s) {
 }
 
 DistanceStream make_distance_stream(const Model& m) {
-  DistanceStream ds;
-  const auto& d = m.get<Distance>();
-  const auto& order = m.distance_colours.order;
-  const std::size_t n = order.size();
-  ds.a.resize(n), ds.b.resize(n), ds.rest.resize(n), ds.compliance.resize(n), ds.damping.resize(n);
-  for (std::size_t j = 0; j < n; ++j) {
-    const Distance& c = d[static_cast<std::size_t>(order[j])];
-    ds.a[j] = c.p[0], ds.b[j] = c.p[1], ds.rest[j] = c.rest;
-    ds.compliance[j] = c.mat.compliance, ds.damping[j] = c.mat.damping;
-  }
-  return ds;
+  return make_pair_stream(m.get<Distance>(), m.distance_colours.order, [](const Distance& c) { return c.rest; });
 }
 
 }  // namespace detail
@@ -169,8 +156,14 @@ void prepare_stream(const Model& m, State& s, Real h, Workers* workers) {
     throw ConfigError("prepare_stream: model.dihedral_stream covers " + std::to_string(m.dihedral_stream.size()) +
                       " elements, the model has " + std::to_string(m.get<DihedralBending>().size()) +
                       " DihedralBending elements (use compile)");
+  if (m.tether_stream.size() != m.get<Tether>().size())
+    throw ConfigError("prepare_stream: model.tether_stream covers " + std::to_string(m.tether_stream.size()) +
+                      " elements, the model has " + std::to_string(m.get<Tether>().size()) +
+                      " Tether elements (use compile)");
   detail::stream_begin_step(m, s, h, workers);
   std::fill(s.stream_lambda.begin(), s.stream_lambda.end(), Real(0));
+  detail::tether_begin_step(m, s, h, workers);
+  std::fill(s.tether_lambda.begin(), s.tether_lambda.end(), Real(0));
   detail::dihedral_begin_step(m, s, h, workers);
   std::fill(s.dihedral_lambda.begin(), s.dihedral_lambda.end(), Real(0));
 }
@@ -182,7 +175,18 @@ void project_stream(const Model& m, State& s, const SolveContext& sc, bool simd,
       s.stream_x.size() != 4 * static_cast<std::size_t>(m.num_particles()) ||
       (damped && s.stream_gamma.size() != e))
     throw ConfigError("project_stream: the state's stream is not prepared for this model (call prepare_stream)");
-  detail::stream_sweep(m, s, sc, damped, simd, false, workers);
+  detail::stream_sweep(m, s, sc, damped, simd, false, true, workers);
+}
+
+void project_tether_stream(const Model& m, State& s, const SolveContext& sc, bool simd, Workers* workers) {
+  const std::size_t e = m.tether_stream.size();
+  const bool damped = m.has_damping[type_index_v<Tether>];
+  if (s.tether_inv_den.size() != e || s.tether_lambda.size() != e ||
+      s.stream_x.size() != 4 * static_cast<std::size_t>(m.num_particles()) ||
+      (damped && (s.tether_gamma.size() != e || s.stream_x_prev.size() != s.stream_x.size())))
+    throw ConfigError(
+        "project_tether_stream: the state's stream is not prepared for this model (call prepare_stream)");
+  detail::tether_sweep(m, s, sc, damped, simd, false, true, workers);
 }
 
 const char* simd_kernel() { return detail::cpu_has_avx2() ? "avx2" : "scalar"; }

@@ -1,10 +1,11 @@
 #pragma once
 // step()'s use of the compiled streams (distance_stream.hpp,
-// dihedral_stream.hpp): the coloured XPBD Distance and DihedralBending
-// stages of one sweep, on the calling thread or over Workers.
+// dihedral_stream.hpp): the coloured XPBD Distance, Tether and
+// DihedralBending stages of one sweep, on the calling thread or over Workers.
 #include <algorithm>
 #include <cstddef>
 #include <functional>
+#include <vector>
 
 #include "xpbd/model.hpp"
 #include "xpbd/solve.hpp"
@@ -64,6 +65,26 @@ void size_records(const Model& m, State& s, bool damped);
 void pack_records(const Model& m, State& s, bool damped, Workers* workers);
 void unpack_records(State& s, Workers* workers);
 
+// A pair stream (the Distance or the Tether one: a DistanceStream in the
+// order of its ColourSchedule) with its scratch in State and its kernels.
+struct StreamArgs;
+using PairKernel = void (*)(const StreamArgs&, std::size_t, std::size_t, bool, bool);
+struct PairStream {
+  const DistanceStream& elements;
+  const ColourSchedule& colours;
+  std::vector<Real>& at;
+  std::vector<Real>& inv_den;
+  std::vector<Real>& gamma;
+  std::vector<Real>& lambda;
+  PairKernel scalar, avx2;  // avx2 null where the library has no AVX2 kernel
+};
+// Sizes the scratch and computes each element's at, 1/den and gamma for
+// substeps of h (one element at a time; the same operations in every build).
+void pair_begin_step(const Model& m, State& s, const PairStream& p, bool damped, Real h, Workers* workers);
+// One sweep, colour by colour (see stream_sweep below).
+void pair_sweep(const Model& m, State& s, const PairStream& p, const SolveContext& sc, bool damped, bool simd,
+                bool first, bool pack, Workers* workers);
+
 // --- The Distance stream (stream.cpp) ---
 
 // Sizes the stream scratch of `s` (no allocation after the first step) and
@@ -74,19 +95,43 @@ void stream_begin_step(const Model& m, State& s, Real h, Workers* workers);
 // sc.reverse): particles copied into State::stream_x, projected, copied
 // back. `first`: the first sweep of a substep, which takes every multiplier
 // as 0 and writes them all (so they need no zeroing at the substep's
-// start). `workers` may be null.
+// start). `pack`: copy the particles into the records first; false when
+// they already hold the positions (step() knows when: after another stream
+// stage's copy back, with nothing moved since). `workers` may be null.
 void stream_sweep(const Model& m, State& s, const SolveContext& sc, bool damped, bool simd, bool first,
-                  Workers* workers);
+                  bool pack, Workers* workers);
 // State::lambda of Distance from the stream multipliers: at the end of a step.
 void stream_end_step(const Model& m, State& s);
 // The compiled stream of m's Distance elements in m.distance_colours order.
 DistanceStream make_distance_stream(const Model& m);
 
+// A pair stream of `es` in `order`; rest(e) is an element's rest value.
+template <class T, class Rest>
+DistanceStream make_pair_stream(const std::vector<T>& es, const std::vector<Index>& order, Rest rest) {
+  DistanceStream ps;
+  const std::size_t n = order.size();
+  ps.a.resize(n), ps.b.resize(n), ps.rest.resize(n), ps.compliance.resize(n), ps.damping.resize(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    const T& c = es[static_cast<std::size_t>(order[j])];
+    ps.a[j] = c.p[0], ps.b[j] = c.p[1], ps.rest[j] = rest(c);
+    ps.compliance[j] = c.mat.compliance, ps.damping[j] = c.mat.damping;
+  }
+  return ps;
+}
+
+// --- The Tether stream (tether_stream.cpp), the same steps ---
+
+void tether_begin_step(const Model& m, State& s, Real h, Workers* workers);
+void tether_sweep(const Model& m, State& s, const SolveContext& sc, bool damped, bool simd, bool first,
+                  bool pack, Workers* workers);
+void tether_end_step(const Model& m, State& s);
+DistanceStream make_tether_stream(const Model& m);
+
 // --- The DihedralBending stream (dihedral_stream.cpp), the same steps ---
 
 void dihedral_begin_step(const Model& m, State& s, Real h, Workers* workers);
 void dihedral_sweep(const Model& m, State& s, const SolveContext& sc, bool damped, bool simd, bool first,
-                    Workers* workers);
+                    bool pack, Workers* workers);
 void dihedral_end_step(const Model& m, State& s);
 DihedralStream make_dihedral_stream(const Model& m);
 

@@ -1,5 +1,5 @@
 // The AVX2 lane types of the stream kernels (stream_kernel.hpp,
-// dihedral_kernel.hpp): 8 floats or
+// tether_kernel.hpp, dihedral_kernel.hpp): 8 floats or
 // 4 doubles per register. This file alone is built with -mavx2 (and
 // -ffp-contract=off, no FMA); stream.cpp calls it only on a CPU that
 // reports AVX2. Particle records are loaded whole (one 16- or 32-byte load
@@ -10,6 +10,7 @@
 
 #include "dihedral_kernel.hpp"
 #include "stream_kernel.hpp"
+#include "tether_kernel.hpp"
 
 namespace xpbd::detail {
 namespace {
@@ -32,8 +33,11 @@ struct Avx2Lane {
   static M gt(Avx2Lane p, Avx2Lane q) { return _mm256_cmp_pd(p.v, q.v, _CMP_GT_OQ); }
   static M ge(Avx2Lane p, Avx2Lane q) { return _mm256_cmp_pd(p.v, q.v, _CMP_GE_OQ); }
   static M le(Avx2Lane p, Avx2Lane q) { return _mm256_cmp_pd(p.v, q.v, _CMP_LE_OQ); }
+  static M eq(Avx2Lane p, Avx2Lane q) { return _mm256_cmp_pd(p.v, q.v, _CMP_EQ_OQ); }
   static M both(M p, M q) { return _mm256_and_pd(p, q); }
+  static M but_not(M p, M q) { return _mm256_andnot_pd(q, p); }
   static bool all(M p) { return _mm256_movemask_pd(p) == 0xf; }
+  static bool none(M p) { return _mm256_movemask_pd(p) == 0; }
   static Avx2Lane select(M m, Avx2Lane p, Avx2Lane q) { return Avx2Lane(_mm256_blendv_pd(q.v, p.v, m)); }
   // 4 records (x, y, z, w) -> x, y, z, w of 4 lanes.
   static void load_records(const Real* const* r, Avx2Lane& x, Avx2Lane& y, Avx2Lane& z, Avx2Lane& w) {
@@ -77,8 +81,11 @@ struct Avx2Lane {
   static M gt(Avx2Lane p, Avx2Lane q) { return _mm256_cmp_ps(p.v, q.v, _CMP_GT_OQ); }
   static M ge(Avx2Lane p, Avx2Lane q) { return _mm256_cmp_ps(p.v, q.v, _CMP_GE_OQ); }
   static M le(Avx2Lane p, Avx2Lane q) { return _mm256_cmp_ps(p.v, q.v, _CMP_LE_OQ); }
+  static M eq(Avx2Lane p, Avx2Lane q) { return _mm256_cmp_ps(p.v, q.v, _CMP_EQ_OQ); }
   static M both(M p, M q) { return _mm256_and_ps(p, q); }
+  static M but_not(M p, M q) { return _mm256_andnot_ps(q, p); }
   static bool all(M p) { return _mm256_movemask_ps(p) == 0xff; }
+  static bool none(M p) { return _mm256_movemask_ps(p) == 0; }
   static Avx2Lane select(M m, Avx2Lane p, Avx2Lane q) { return Avx2Lane(_mm256_blendv_ps(q.v, p.v, m)); }
   // 8 records (x, y, z, w) -> x, y, z, w of 8 lanes: records l and l + 4
   // share a register (low and high half), then a 4x4 transpose per half.
@@ -121,6 +128,10 @@ struct Avx2Lane {
 
 void project_stream_avx2(const StreamArgs& s, std::size_t lo, std::size_t hi, bool damped, bool first) {
   project_stream_variant<Avx2Lane>(s, lo, hi, damped, first);
+}
+
+void project_tether_avx2(const StreamArgs& s, std::size_t lo, std::size_t hi, bool damped, bool first) {
+  project_tether_variant<Avx2Lane>(s, lo, hi, damped, first);
 }
 
 void project_dihedral_avx2(const DihedralArgs& s, std::size_t lo, std::size_t hi, bool damped, bool first) {

@@ -59,8 +59,11 @@ struct ScalarLane {
   static M gt(ScalarLane p, ScalarLane q) { return p.v > q.v; }
   static M ge(ScalarLane p, ScalarLane q) { return p.v >= q.v; }
   static M le(ScalarLane p, ScalarLane q) { return p.v <= q.v; }
+  static M eq(ScalarLane p, ScalarLane q) { return p.v == q.v; }
   static M both(M p, M q) { return p && q; }
+  static M but_not(M p, M q) { return p && !q; }
   static bool all(M p) { return p; }
+  static bool none(M p) { return !p; }
   static ScalarLane select(M m, ScalarLane p, ScalarLane q) { return m ? p : q; }
   // Records r[0..N) -> components.
   static void load_records(const Real* const* r, ScalarLane& x, ScalarLane& y, ScalarLane& z, ScalarLane& w) {
@@ -72,6 +75,25 @@ struct ScalarLane {
 };
 
 }  // namespace
+
+// The damping term's d.((x_a - p_a) - (x_b - p_b)) of elements
+// [j, j + V::N), p the records of the substep's start: the same operations
+// in every pair kernel.
+template <class V>
+[[gnu::always_inline]] inline V damping_dot(const StreamArgs& s, std::size_t j, V xa, V ya, V za, V xb, V yb, V zb,
+                                            V dx, V dy, V dz) {
+  const Real* pa[V::N];
+  const Real* pb[V::N];
+  for (int l = 0; l < V::N; ++l) {
+    pa[l] = s.x_prev + 4 * static_cast<std::size_t>(s.a[j + static_cast<std::size_t>(l)]);
+    pb[l] = s.x_prev + 4 * static_cast<std::size_t>(s.b[j + static_cast<std::size_t>(l)]);
+  }
+  V pxa, pya, pza, pwa, pxb, pyb, pzb, pwb;
+  V::load_records(pa, pxa, pya, pza, pwa);
+  V::load_records(pb, pxb, pyb, pzb, pwb);
+  const V vx = (xa - pxa) - (xb - pxb), vy = (ya - pya) - (yb - pyb), vz = (za - pza) - (zb - pzb);
+  return (dx * vx + dy * vy) + dz * vz;
+}
 
 // Elements [j, j + V::N) of the stream, which share no particle.
 // kFirst: the first sweep of a substep, where every multiplier is 0: it is
@@ -109,17 +131,7 @@ template <class V, bool kDamped, bool kFirst>
   if (!V::all(normal)) inv_len = V::select(normal, inv_len, V(Real(1)) / len);
   V num = num0 - len;
   if constexpr (kDamped) {
-    const Real* pa[V::N];
-    const Real* pb[V::N];
-    for (int l = 0; l < V::N; ++l) {
-      pa[l] = s.x_prev + 4 * static_cast<std::size_t>(s.a[j + static_cast<std::size_t>(l)]);
-      pb[l] = s.x_prev + 4 * static_cast<std::size_t>(s.b[j + static_cast<std::size_t>(l)]);
-    }
-    V pxa, pya, pza, pwa, pxb, pyb, pzb, pwb;
-    V::load_records(pa, pxa, pya, pza, pwa);
-    V::load_records(pb, pxb, pyb, pzb, pwb);
-    const V vx = (xa - pxa) - (xb - pxb), vy = (ya - pya) - (yb - pyb), vz = (za - pza) - (zb - pzb);
-    num = num - (V::load(s.gamma + j) * inv_len) * ((dx * vx + dy * vy) + dz * vz);
+    num = num - (V::load(s.gamma + j) * inv_len) * damping_dot<V>(s, j, xa, ya, za, xb, yb, zb, dx, dy, dz);
   }
   const V dl = num * inv_den;
   V::store(s.lambda + j, V::select(ok, lam + dl, lam));
@@ -138,19 +150,27 @@ inline void project_stream_range(const StreamArgs& s, std::size_t lo, std::size_
   for (; j < hi; ++j) project_stream_lanes<ScalarLane, kDamped, kFirst>(s, j);
 }
 
-template <class V>
-inline void project_stream_variant(const StreamArgs& s, std::size_t lo, std::size_t hi, bool damped, bool first) {
+// Calls f.template operator()<kDamped, kFirst>() for the run-time flags: the
+// four variants of a kernel (the stream kernels' *_variant functions).
+template <class F>
+inline void dispatch_variant(bool damped, bool first, F&& f) {
   if (damped) {
     if (first)
-      project_stream_range<V, true, true>(s, lo, hi);
+      f.template operator()<true, true>();
     else
-      project_stream_range<V, true, false>(s, lo, hi);
+      f.template operator()<true, false>();
   } else {
     if (first)
-      project_stream_range<V, false, true>(s, lo, hi);
+      f.template operator()<false, true>();
     else
-      project_stream_range<V, false, false>(s, lo, hi);
+      f.template operator()<false, false>();
   }
+}
+
+template <class V>
+inline void project_stream_variant(const StreamArgs& s, std::size_t lo, std::size_t hi, bool damped, bool first) {
+  dispatch_variant(damped, first,
+                   [&]<bool kDamped, bool kFirst>() { project_stream_range<V, kDamped, kFirst>(s, lo, hi); });
 }
 
 // Entry points (stream.cpp; stream_avx2.cpp).

@@ -9,7 +9,8 @@
 //
 // The kernel reads the particle records (x, y, z, 1/m) of
 // State::stream_x, the same records as the Distance stream, packed before
-// the stage and copied back after it. Per hinge it computes what
+// the stage (unless the stage before it left them holding the positions)
+// and copied back after it. Per hinge it computes what
 // solve_dihedral.hpp's kernel computes (the update of DihedralBending in
 // constraints_bending.hpp), with the triple product e.(d2 x d3) taken as
 // d2.N2 (one cross product fewer). The multipliers are kept in stream

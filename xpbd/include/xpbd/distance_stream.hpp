@@ -33,6 +33,10 @@ struct State;
 struct SolveContext;
 class Workers;
 
+// Also the compiled form of the Tether elements (Model::tether_stream, in
+// the order of Model::tether_colours): a is the tethered particle, b its
+// anchor, rest the tether's length. Their kernel is the one-sided update of
+// a tether (tether_kernel.hpp), over the same records.
 struct DistanceStream {
   std::vector<Index> a, b;        // particles of element order[j]
   std::vector<Real> rest;         // m
@@ -50,10 +54,14 @@ struct DistanceStream {
 // multipliers, s.stream_lambda[j] for element m.distance_colours.order[j].
 // prepare_stream prepares the DihedralBending stream (dihedral_stream.hpp)
 // as well.
+// The Tether stream is prepared (its multipliers zeroed) too, and
+// project_tether_stream is the same sweep over it.
 // Throws ConfigError if the state is not prepared, or h is not > 0.
 void prepare_stream(const Model& m, State& s, Real h, Workers* workers = nullptr);
 void project_stream(const Model& m, State& s, const SolveContext& sc, bool simd,
                     Workers* workers = nullptr);
+void project_tether_stream(const Model& m, State& s, const SolveContext& sc, bool simd,
+                           Workers* workers = nullptr);
 
 // "avx2" or "scalar": the kernel step() runs for the coloured XPBD sweep
 // with StepConfig::simd on, on this CPU with this build.

@@ -19,6 +19,8 @@ void check_material_change(const char* type, std::size_t first, std::size_t coun
 void refresh_distance_colours(Model& m);
 // Builds Model::dihedral_stream again from the DihedralBending elements.
 void refresh_dihedral_stream(Model& m);
+// Builds Model::tether_stream again from the Tether elements.
+void refresh_tether_stream(Model& m);
 }  // namespace detail
 
 // Sets the material of elements [first, first + count) of constraint type T
@@ -37,6 +39,7 @@ void set_material(Model& m, std::size_t first, std::size_t count, const Material
   m.has_damping[type_index_v<T>] = any;
   if constexpr (std::is_same_v<T, Distance>) detail::refresh_distance_colours(m);
   if constexpr (std::is_same_v<T, DihedralBending>) detail::refresh_dihedral_stream(m);
+  if constexpr (std::is_same_v<T, Tether>) detail::refresh_tether_stream(m);
 }
 
 // All elements of type T.

@@ -67,6 +67,14 @@ struct Model {
   // (dihedral_stream.hpp), for the coloured XPBD sweep.
   ColourSchedule dihedral_colours;
   DihedralStream dihedral_stream;
+  // The Tether elements' colour schedule and their compiled form
+  // (distance_stream.hpp), for the coloured XPBD sweep. Unlike the other
+  // schedules, elements of one colour may share a particle whose inverse
+  // mass is 0 (an anchor that every tether of a pin shares): it never
+  // moves, and the kernel never writes it (tether_kernel.hpp). So this
+  // schedule holds for the inverse masses compile() set.
+  ColourSchedule tether_colours;
+  DistanceStream tether_stream;
   // The Distance elements' chains (chains.hpp), for StepConfig::direct_chains.
   Chains chains;
 

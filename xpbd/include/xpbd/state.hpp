@@ -99,6 +99,10 @@ struct State {
   // (dihedral_stream.hpp; it reads the records above): the multipliers in
   // stream order, compliance/h^2 and compliance*damping/h.
   std::vector<Real> dihedral_lambda, dihedral_at, dihedral_gamma;
+  // The same for the coloured XPBD Tether sweep (Model::tether_stream; it
+  // reads the records above): the multipliers in stream order and the
+  // per-element factors constant over a step.
+  std::vector<Real> tether_lambda, tether_at, tether_inv_den, tether_gamma;
   // The direct chain solve's scratch (StepConfig::direct_chains, chains.hpp).
   ChainScratch chain;
   // StepConfig::hierarchy: the coarse levels of the model's Distance graph

@@ -75,35 +75,37 @@ struct StepConfig {
   // form, Model::distance_stream (distance_stream.hpp), by a vector kernel
   // where the CPU has one (see simd); PBD runs the scalar kernel over
   // Model::distance_by_colour (solve.hpp, project_all_coloured), on the
-  // calling thread. With XPBD the DihedralBending elements too are swept
-  // colour by colour (Model::dihedral_colours) over their compiled form
-  // (dihedral_stream.hpp; AVX2 where the CPU has it). Off by default. Every
-  // other type keeps the array order. This is a different Gauss-Seidel
-  // order, so the result differs from the array order's (both converge to
-  // the same solution, at different rates). With alternate_sweeps, the
-  // reversed sweeps visit the colours last to first. Measured on the
-  // 64 x 64 hanging cloth (docs/benchmarks.md, "Coloured sweep"): 12
-  // colours; with the AVX2 kernel an XPBD step is 2.1-2.4x (double) and
-  // 2.6-3.1x (float) as fast as in array order; per sweep it converges
-  // less (mean strain 1.3-1.7x the array order's at the same budget). With
-  // the earlier scalar coloured kernel (1.3x), at equal cost per frame it
-  // was more accurate from about 4 ms per frame up and less accurate below
-  // (strain about 0.023 against 0.017 at 2.6 ms); not measured again since.
+  // calling thread. With XPBD the DihedralBending and Tether elements too
+  // are swept colour by colour (Model::dihedral_colours, tether_colours)
+  // over their compiled forms (dihedral_stream.hpp, distance_stream.hpp;
+  // AVX2 where the CPU has it). Off by default. Every other type keeps the
+  // array order. This is a different Gauss-Seidel order, so the result
+  // differs from the array order's (both converge to the same solution, at
+  // different rates). With alternate_sweeps, the reversed sweeps visit the
+  // colours last to first. Measured on the 64 x 64 hanging cloth
+  // (docs/benchmarks.md, "Coloured sweep"): 12 colours; with the AVX2
+  // kernel an XPBD step is 2.1-2.4x (double) and 2.6-3.1x (float) as fast
+  // as in array order; per sweep it converges less (mean strain 1.3-1.7x
+  // the array order's at the same budget). With the earlier scalar coloured
+  // kernel (1.3x), at equal cost per frame it was more accurate from about
+  // 4 ms per frame up and less accurate below (strain about 0.023 against
+  // 0.017 at 2.6 ms); not measured again since. The same cloth tethered to
+  // its two pins ("bench_tethers"): 1.9-2.2x in double.
   bool coloured = false;
   // The coloured XPBD sweep runs the widest kernel this CPU has
   // (simd_kernel(): AVX2 or scalar). Off = the scalar kernel. The two give
   // the same results bit for bit; this exists to measure one against the
   // other.
   bool simd = true;
-  // Threads for the coloured XPBD Distance and DihedralBending sweeps and
-  // the per-particle stages (workers.hpp; needs coloured, nullptr = the
-  // calling thread only). Each colour's elements are split over the pool's
-  // threads, the colours in turn, and so are the copy of the particles in
-  // and out of the stream, the prediction and the velocity update: the
-  // result is bit for bit the single-threaded coloured step's. Pieces below
-  // 512 elements or particles run on the calling thread. Every other stage
-  // (the other constraint types, contacts) and PBD's coloured sweep stay on
-  // the calling thread.
+  // Threads for the coloured XPBD Distance, DihedralBending and Tether
+  // sweeps and the per-particle stages (workers.hpp; needs coloured,
+  // nullptr = the calling thread only). Each colour's elements are split
+  // over the pool's threads, the colours in turn, and so are the copy of the
+  // particles in and out of the stream, the prediction and the velocity
+  // update: the result is bit for bit the single-threaded coloured step's.
+  // Pieces below 512 elements or particles run on the calling thread. Every
+  // other stage (the other constraint types, contacts) and PBD's coloured
+  // sweep stay on the calling thread.
   Workers* workers = nullptr;
   // Extra sweeps where contacts need them (off by default): after the
   // `iterations` sweeps of a substep, another sweep runs while some body or
