@@ -1,4 +1,5 @@
-// The collision triangles' hierarchy in FCL (triangle_bvh.hpp).
+// The collision triangles' hierarchy: built by FCL, refitted and walked
+// here (triangle_bvh.hpp).
 #include "triangle_bvh.hpp"
 
 #include <algorithm>
@@ -13,66 +14,110 @@ namespace {
 using Box = fcl::AABB<double>;  // FCL in double in both builds: the boxes only filter
 using Point = fcl::Vector3<double>;
 Point point(const xpbd::Vec3& p) { return Point(double(p.x()), double(p.y()), double(p.z())); }
+
+// A node of the tree in depth-first order: an inner node's left child
+// follows it, and `escape` is the first node after its subtree (its right
+// child is its left child's escape).
+struct Node {
+  Point lo, hi;  // the swept box
+  int escape;
+  int tri;  // the triangle of a leaf; -1 for an inner node
+};
 }  // namespace
 
 struct TriangleBvh::Impl {
-  std::unique_ptr<fcl::BVHModel<Box>> model;  // not assignable: replaced whole
-  std::vector<std::array<xpbd::Index, 3>> tris;  // what the model was built for
-  std::vector<Point> points;                     // scratch
+  std::vector<std::array<xpbd::Index, 3>> tris;  // what the tree was built for
+  std::vector<Node> nodes;
   bool built = false;
-  mutable std::vector<int> stack;  // scratch of query()
 };
 
 TriangleBvh::TriangleBvh() : impl_(std::make_unique<Impl>()) {}
 TriangleBvh::~TriangleBvh() = default;
 
+namespace {
+
+// FCL's tree (fcl::BVHModel, its default mean split), built over the
+// points, as nodes in depth-first order.
+std::vector<Node> build(const std::vector<std::array<xpbd::Index, 3>>& tris, const std::vector<Point>& points) {
+  if (tris.empty()) return {};
+  fcl::BVHModel<Box> model;
+  std::vector<fcl::Triangle> t;
+  t.reserve(tris.size());
+  for (const auto& tri : tris) t.emplace_back(std::size_t(tri[0]), std::size_t(tri[1]), std::size_t(tri[2]));
+  model.beginModel(int(t.size()), int(points.size()));
+  model.addSubModel(points, t);
+  model.endModel();
+  // Depth first, left before right (FCL's nodes: first_child < 0 marks a
+  // leaf, of triangle -first_child - 1; the right child is first_child + 1).
+  const fcl::BVNode<Box>* const fcl_nodes = &model.getBV(0);
+  std::vector<int> from;  // FCL's node of each of ours
+  from.reserve(std::size_t(model.getNumBVs()));
+  std::vector<int> stack{0};
+  while (!stack.empty()) {
+    const int id = stack.back();
+    stack.pop_back();
+    from.push_back(id);
+    const int c = fcl_nodes[id].first_child;
+    if (c >= 0) {
+      stack.push_back(c + 1);
+      stack.push_back(c);
+    }
+  }
+  std::vector<Node> nodes(from.size());
+  for (std::size_t i = from.size(); i-- > 0;) {
+    const int c = fcl_nodes[from[i]].first_child;
+    nodes[i].tri = c < 0 ? -c - 1 : -1;
+    // A leaf ends its subtree; an inner node's ends where its right
+    // child's does, which starts where its left child's (at i + 1) ends.
+    nodes[i].escape = c < 0 ? int(i) + 1 : nodes[std::size_t(nodes[i + 1].escape)].escape;
+  }
+  return nodes;
+}
+
+}  // namespace
+
 void TriangleBvh::update(const std::vector<std::array<xpbd::Index, 3>>& tris, const std::vector<xpbd::Vec3>& x,
-                         const std::vector<xpbd::Vec3>& v, xpbd::Real dt) {
+                         const std::vector<xpbd::Vec3>& lo, const std::vector<xpbd::Vec3>& hi) {
   Impl& m = *impl_;
-  const std::size_t n = x.size();
-  m.points.resize(n);
   if (!m.built || tris != m.tris) {
-    // Built over the start positions; the refit below gives the swept boxes.
-    m.model = std::make_unique<fcl::BVHModel<Box>>();
-    std::vector<fcl::Triangle> t;
-    t.reserve(tris.size());
-    for (const auto& tri : tris)
-      t.emplace_back(std::size_t(tri[0]), std::size_t(tri[1]), std::size_t(tri[2]));
-    for (std::size_t i = 0; i < n; ++i) m.points[i] = point(x[i]);
-    m.model->beginModel(int(t.size()), int(n));
-    m.model->addSubModel(m.points, t);
-    m.model->endModel();
+    std::vector<Point> points(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i) points[i] = point(x[i]);
+    m.nodes = build(tris, points);
     m.tris = tris;
     m.built = true;
   }
-  // The end of the step without contacts; then the start, written over the
-  // frame FCL keeps as the previous one, so that each leaf's box is fitted
-  // over both.
-  m.model->beginUpdateModel();
-  for (std::size_t i = 0; i < n; ++i) m.points[i] = point(x[i] + dt * v[i]);
-  m.model->updateSubModel(m.points);
-  for (std::size_t i = 0; i < n; ++i) m.model->prev_vertices[i] = point(x[i]);
-  m.model->endUpdateModel(true, true);
+  // The refit: each leaf's box is its triangle's, each inner node's is over
+  // its two children's, last node first, so that children come before
+  // their parent.
+  for (std::size_t i = m.nodes.size(); i-- > 0;) {
+    Node& node = m.nodes[i];
+    if (node.tri >= 0) {
+      node.lo = point(lo[std::size_t(node.tri)]);
+      node.hi = point(hi[std::size_t(node.tri)]);
+    } else {
+      const Node& l = m.nodes[i + 1];
+      const Node& r = m.nodes[std::size_t(l.escape)];
+      node.lo = l.lo.cwiseMin(r.lo);
+      node.hi = l.hi.cwiseMax(r.hi);
+    }
+  }
 }
 
 void TriangleBvh::query(const xpbd::Vec3& lo, const xpbd::Vec3& hi, std::vector<int>& out) const {
   const Impl& m = *impl_;
-  if (!m.built || m.model->getNumBVs() == 0) return;
   const Point a = point(lo), b = point(hi);
   const std::size_t first = out.size();
-  m.stack.clear();
-  m.stack.push_back(0);
-  while (!m.stack.empty()) {
-    const int id = m.stack.back();
-    m.stack.pop_back();
-    const fcl::BVNode<Box>& node = m.model->getBV(id);
-    if ((b.array() < node.bv.min_.array()).any() || (a.array() > node.bv.max_.array()).any()) continue;
-    if (node.isLeaf()) {
-      out.push_back(node.primitiveId());
-    } else {
-      m.stack.push_back(node.rightChild());
-      m.stack.push_back(node.leftChild());
+  // Depth first without a stack: a node whose box misses the query's skips
+  // its subtree.
+  const std::size_t count = m.nodes.size();
+  for (std::size_t i = 0; i < count;) {
+    const Node& node = m.nodes[i];
+    if ((b.array() < node.lo.array()).any() || (a.array() > node.hi.array()).any()) {
+      i = std::size_t(node.escape);
+      continue;
     }
+    if (node.tri >= 0) out.push_back(node.tri);
+    ++i;
   }
   std::sort(out.begin() + std::ptrdiff_t(first), out.end());
 }

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "feature_sweep.hpp"
+#include "triangle_grid.hpp"
 #include "world_impl.hpp"
 
 namespace xpbd_bullet {
@@ -146,8 +147,21 @@ constexpr std::size_t kBodyTriangles = 256;
 constexpr int kSweepPieces = 16;
 // At most this many contacts per feature and step (the first found).
 constexpr int kFeatureTriangles = 16;
-// Features per block tested together against a body's triangles.
-constexpr std::size_t kBlock = 8;
+// A body's grid cell (triangle_grid.hpp), in sides of its candidate
+// triangles' boxes (their mean largest side).
+constexpr Real kCellPerTriangle = Real(0.5);
+
+namespace {
+
+// Whether a point that may move `travel` along each axis stays outside the
+// box [lo, hi]; without branches, as most tests end here.
+inline bool outside(const Vec3& q, Real travel, const Vec3& lo, const Vec3& hi) {
+  return static_cast<bool>(static_cast<int>(q.x() + travel < lo.x()) | static_cast<int>(q.y() + travel < lo.y()) |
+                           static_cast<int>(q.z() + travel < lo.z()) | static_cast<int>(q.x() - travel > hi.x()) |
+                           static_cast<int>(q.y() - travel > hi.y()) | static_cast<int>(q.z() - travel > hi.z()));
+}
+
+}  // namespace
 
 void XpbdWorld::find_triangle_contacts(System& s, btScalar dt, const Vec3& lo, const Vec3& hi) {
   const xpbd::Model& m = *s.model;
@@ -155,7 +169,6 @@ void XpbdWorld::find_triangle_contacts(System& s, btScalar dt, const Vec3& lo, c
   const ContactSettings& cs = s.settings.contacts;
   const auto& tris = m.collision_triangles;
   const bool use_bvh = tris.size() >= std::size_t(cs.triangle_bvh_from);
-  Real grow_max = 0;  // the largest of the triangles' growths below
   bool bounds_ready = false;
   std::vector<btTransform> path_tf;  // a fast body's poses along the step
   std::array<Vec3, kSweepPieces + 1> path_at;  // a fast feature's path
@@ -164,7 +177,7 @@ void XpbdWorld::find_triangle_contacts(System& s, btScalar dt, const Vec3& lo, c
   std::vector<std::array<Vec3, 3>> mesh_tris;  // a mesh's triangles near the system
   std::vector<Vec3> feature_at;                // a body's features at the step's start (world)
   std::vector<Real> feature_travel;            // and how far each can move over the step
-  std::vector<int> block_tris;                 // the body's triangles near a block of features
+  detail::TriangleGrid grid;                   // the body's triangles near its features
   for (const btCollisionObject* obj : candidates_) {
     features_.clear();
     centres.clear();
@@ -221,13 +234,12 @@ void XpbdWorld::find_triangle_contacts(System& s, btScalar dt, const Vec3& lo, c
           r = std::max(r, m.radius[p]);
         }
         const Real grow = r + cs.thickness + cs.margin;
-        grow_max = std::max(grow_max, grow);
         tri_lo_[t] = a.array() - grow;
         tri_hi_[t] = b.array() + grow;
       }
       if (use_bvh) {
         if (!s.tri_bvh) s.tri_bvh = std::make_unique<detail::TriangleBvh>();
-        s.tri_bvh->update(tris, st.x, st.v, dt);
+        s.tri_bvh->update(tris, st.x, tri_lo_, tri_hi_);
       }
       bounds_ready = true;
     }
@@ -254,8 +266,10 @@ void XpbdWorld::find_triangle_contacts(System& s, btScalar dt, const Vec3& lo, c
       }
     }
     // Feature at q0 (start of the step) that may travel `travel`, against
-    // triangle t: the exact tests, then the contact. path: the feature's
-    // path (pieces + 1 points) when it is fast, else null.
+    // triangle t, whose grown swept box it reaches (the caller tests that,
+    // `outside`): the exact tests, then the contact. path: the feature's
+    // path (pieces + 1 points) when it is fast, else null; centre: its
+    // shape's centre, read only with a path.
     auto try_triangle = [&](const Vec3& local, const Vec3& q0, Real travel, std::size_t t, const Vec3* path,
                             const Vec3& centre) {
       // At most kFeatureTriangles contacts per feature and step (the first
@@ -263,8 +277,6 @@ void XpbdWorld::find_triangle_contacts(System& s, btScalar dt, const Vec3& lo, c
       // far beyond the cloth's triangles (a fuzzed scene with 5 m made
       // 470,000 contacts per step, and its sweeps took 190 ms per frame).
       if (feature_contacts == kFeatureTriangles) return;
-      if ((q0.array() + travel < tri_lo_[t].array()).any() || (q0.array() - travel > tri_hi_[t].array()).any())
-        return;
       const auto& tri = tris[t];
       const Vec3 x1 = st.x[tri[0]], e1 = st.x[tri[1]] - x1, e2 = st.x[tri[2]] - x1;
       const Vec3 nn = e1.cross(e2);
@@ -327,17 +339,18 @@ void XpbdWorld::find_triangle_contacts(System& s, btScalar dt, const Vec3& lo, c
       c.dynamic_friction = cs.dynamic_friction * obj->getFriction();
       st.triangle_contacts.push_back(c);
     };
-    // Every triangle whose grown box a feature's box can reach has a swept
-    // box within grow_max of the feature's; the small pad covers the
-    // rounding of the box arithmetic in float, so the hierarchy never drops
-    // a triangle the loop over all of them would test.
+    // The hierarchy holds the grown boxes the test `outside` reads, so a
+    // query over a feature's box grown by its travel returns every triangle
+    // that test passes (rounding is monotone); the small pad is a margin on
+    // top, so the hierarchy never drops a triangle the loop over all of them
+    // would test.
     auto pad_of = [](const Vec3& q, Real reach) {
       return Real(1e-5) * (q.cwiseAbs().maxCoeff() + reach) + std::numeric_limits<Real>::min();
     };
     // With the hierarchy, first the triangles near the body's features as a
-    // whole (one query); a feature then tests those, in ascending order as
-    // the loop does, or, when they are many (a body under much of the
-    // cloth), queries the hierarchy itself.
+    // whole (one query); a feature then tests those of its grid cell, in
+    // ascending order as the loop does, or, when they are many (a body under
+    // much of the cloth), queries the hierarchy itself.
     // The features at the start of the step and how far they can move.
     const std::size_t nf = features_.size();
     feature_at.resize(nf);
@@ -355,34 +368,24 @@ void XpbdWorld::find_triangle_contacts(System& s, btScalar dt, const Vec3& lo, c
         fhi = fhi.cwiseMax(feature_at[i]);
         reach = std::max(reach, feature_travel[i]);
       }
-      reach += grow_max;
       const Real pad = pad_of(flo.cwiseAbs().cwiseMax(fhi.cwiseAbs()), reach);
       body_tris_.clear();
       s.tri_bvh->query((flo.array() - (reach + pad)).matrix(), (fhi.array() + (reach + pad)).matrix(), body_tris_);
       per_feature = body_tris_.size() > kBodyTriangles;
+      if (!per_feature) {
+        // The body's triangles in a grid over its features: a triangle is in
+        // every cell its box, grown by the features' largest travel, meets;
+        // so the cell of a feature holds every triangle its own box test
+        // below can pass, in ascending order (the contacts are those of the
+        // loop, in its order).
+        Real side = 0;
+        for (const int t : body_tris_) side += (tri_hi_[std::size_t(t)] - tri_lo_[std::size_t(t)]).maxCoeff();
+        side *= kCellPerTriangle / Real(std::max<std::size_t>(body_tris_.size(), 1));
+        grid.build(flo, fhi, side, reach + pad, body_tris_, tri_lo_, tri_hi_);
+      }
     }
     for (std::size_t i = 0; i < nf; ++i) {
       const Vec3& local = features_[i];
-      if (use_bvh && !per_feature && i % kBlock == 0) {
-        // A block of kBlock features that follow each other (along an edge
-        // they are neighbours): the body's triangles that its box, grown by
-        // its largest travel, overlaps. A triangle left out fails each of
-        // its features' own box test below (rounding is monotone), so the
-        // contacts are the same, in the same order.
-        const std::size_t end = std::min(nf, i + kBlock);
-        Vec3 blo = feature_at[i], bhi = blo;
-        Real tmax = 0;
-        for (std::size_t j = i; j < end; ++j) {
-          blo = blo.cwiseMin(feature_at[j]);
-          bhi = bhi.cwiseMax(feature_at[j]);
-          tmax = std::max(tmax, feature_travel[j]);
-        }
-        block_tris.clear();
-        for (const int t : body_tris_)
-          if (!((blo.array() - tmax > tri_hi_[std::size_t(t)].array()).any() ||
-                (bhi.array() + tmax < tri_lo_[std::size_t(t)].array()).any()))
-            block_tris.push_back(t);
-      }
       feature_contacts = 0;
       // The feature at the start of the step and where it moves over the step.
       const Vec3 q0 = feature_at[i];
@@ -390,7 +393,8 @@ void XpbdWorld::find_triangle_contacts(System& s, btScalar dt, const Vec3& lo, c
       if ((q0.array() + travel < lo.array()).any() || (q0.array() - travel > hi.array()).any())
         continue;
       const Vec3* path = nullptr;
-      const Vec3 centre = to_vec(start * to_bt(centres[i]));
+      // Read only with a path (try_triangle).
+      const Vec3 centre = path_tf.empty() ? Vec3::Zero() : to_vec(start * to_bt(centres[i]));
       if (!path_tf.empty() && travel > fast_from) {
         path_lo = Vec3::Constant(std::numeric_limits<Real>::max());
         path_hi = -path_lo;
@@ -403,14 +407,20 @@ void XpbdWorld::find_triangle_contacts(System& s, btScalar dt, const Vec3& lo, c
         path = path_at.data();
       }
       if (!use_bvh) {
-        for (std::size_t t = 0; t < tris.size(); ++t) try_triangle(local, q0, travel, t, path, centre);
+        for (std::size_t t = 0; t < tris.size(); ++t)
+          if (!outside(q0, travel, tri_lo_[t], tri_hi_[t])) try_triangle(local, q0, travel, t, path, centre);
       } else if (!per_feature) {
-        for (const int t : block_tris) try_triangle(local, q0, travel, std::size_t(t), path, centre);
+        const auto [near, near_end] = grid.near(q0);
+        for (const int* t = near; t != near_end; ++t)
+          if (!outside(q0, travel, tri_lo_[std::size_t(*t)], tri_hi_[std::size_t(*t)]))
+            try_triangle(local, q0, travel, std::size_t(*t), path, centre);
       } else {
-        const Real reach = travel + grow_max, pad = pad_of(q0, reach);
+        const Real reach = travel, pad = pad_of(q0, reach);
         tri_found_.clear();
         s.tri_bvh->query((q0.array() - (reach + pad)).matrix(), (q0.array() + (reach + pad)).matrix(), tri_found_);
-        for (const int t : tri_found_) try_triangle(local, q0, travel, std::size_t(t), path, centre);
+        for (const int t : tri_found_)
+          if (!outside(q0, travel, tri_lo_[std::size_t(t)], tri_hi_[std::size_t(t)]))
+            try_triangle(local, q0, travel, std::size_t(t), path, centre);
       }
     }
   }

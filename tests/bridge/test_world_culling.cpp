@@ -242,6 +242,58 @@ TEST(WorldCulling, TriangleHierarchyGivesTheLoopsTriangleContacts) {
   EXPECT_GT(per_body["compound"] + per_body["hull"], 0);
 }
 
+// The same under a body whose features are near most of the cloth: a tilted
+// slab of 1.2 m x 1.2 m under the 1.4 m cloth has about 400 of the 450
+// triangles near its features, more than the 256 up to which the body's
+// triangles are sorted into a grid; each feature then queries the hierarchy
+// itself.
+TEST(WorldCulling, TriangleHierarchyGivesTheLoopsTriangleContactsUnderALargeBody) {
+  struct Slab {
+    BulletWorld bw;
+    std::unique_ptr<XpbdWorld> xw;
+    xpbd_bullet::SystemId cloth;
+    explicit Slab(int bvh_from) {
+      bw.add_body(new btBoxShape(btVector3(Real(0.6), Real(0.03), Real(0.6))), 0,
+                  pose(Vec3(0, Real(0.2), 0), btQuaternion(btVector3(1, 0, 1).normalized(), Real(0.1))));
+      xw = std::make_unique<XpbdWorld>(bw.world());
+      SystemSettings set;
+      set.contacts.triangle_bvh_from = bvh_from;
+      xpbd::SceneDesc scene;
+      xpbd::ClothGridDesc d;
+      d.nx = d.ny = 16;
+      d.size_u = d.size_v = Real(1.4);
+      d.u = Vec3::UnitX();
+      d.v = Vec3::UnitZ();
+      d.origin = Vec3(Real(-0.7), Real(0.4), Real(-0.7));
+      d.mass = Real(0.3);
+      d.collision_triangles = true;
+      xpbd::add_cloth_grid(scene, d);
+      System s = make_system(scene);
+      cloth = xw->add_system(s.model, s.state, set);
+    }
+  };
+  Slab bvh(0), loop(std::numeric_limits<int>::max());
+  long triangle_contacts = 0;
+  for (int k = 0; k < 60; ++k) {
+    bvh.bw.step();
+    loop.bw.step();
+    const std::string where = "step " + std::to_string(k);
+    const xpbd::State& a = bvh.xw->state(bvh.cloth);
+    const xpbd::State& b = loop.xw->state(loop.cloth);
+    ASSERT_EQ(a.triangle_contacts.size(), b.triangle_contacts.size()) << where;
+    for (std::size_t c = 0; c < a.triangle_contacts.size(); ++c) {
+      const xpbd::BodyTriangleContact &p = a.triangle_contacts[c], &q = b.triangle_contacts[c];
+      ASSERT_TRUE(p.body == q.body && p.r == q.r && p.tri == q.tri && p.side == q.side && p.thickness == q.thickness)
+          << where << ", triangle contact " << c;
+    }
+    triangle_contacts += long(a.triangle_contacts.size());
+    ASSERT_EQ(a.x, b.x) << where;
+    ASSERT_EQ(a.v, b.v) << where;
+  }
+  std::printf("triangle contacts over 60 steps: %ld\n", triangle_contacts);
+  EXPECT_GT(triangle_contacts, 0);
+}
+
 // At the edge of the culling box. A particle at rest at distance d from a
 // static box's top face, moving at u parallel to it (so the sweep misses),
 // has reach = radius + thickness + margin + u dt, and query_point reports it
