@@ -1,5 +1,6 @@
 // Rigid features against a cloth's collision triangles: the loop over every
-// triangle against FCL's refitted hierarchy of the triangles
+// triangle against the hierarchy of the triangles (built by FCL, refitted
+// every step) with a grid per body
 // (ContactSettings::triangle_bvh_from; docs/collision-queries.md, "Rigid
 // features against cloth triangles").
 //

@@ -53,11 +53,12 @@ struct ContactSettings {
   bool sweep_features = true;
   // From this many collision_triangles on (>= 0), the rigid features are
   // matched with the triangles through a bounding volume hierarchy of the
-  // triangles' swept boxes (FCL, built once and refitted every step)
-  // instead of against every triangle's box. The same contacts in the same
-  // order either way: 0 (the default) = always, a number above the
-  // model's = never. The hierarchy was faster at every size measured, from
-  // 18 triangles (1.4x) to 32,258 (79x) (docs/collision-queries.md).
+  // triangles' swept boxes (built by FCL once, refitted every step) and a
+  // grid per body instead of against every triangle's box. The same
+  // contacts in the same order either way: 0 (the default) = always, a
+  // number above the model's = never. The hierarchy was faster at every
+  // size measured, from 18 triangles (1.2x) to 32,258 (140-158x)
+  // (docs/collision-queries.md).
   int triangle_bvh_from = 0;
   // Bullet collision filter of the particle system.
   int filter_group = btBroadphaseProxy::DefaultFilter;
