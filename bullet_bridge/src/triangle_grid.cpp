@@ -13,8 +13,11 @@ void TriangleGrid::build(const Vec3& lo, const Vec3& hi, Real cell, Real reach, 
                          const std::vector<Vec3>& tri_lo, const std::vector<Vec3>& tri_hi) {
   origin_ = lo;
   const Real extent = (hi - lo).maxCoeff();
-  // At most kMaxCells per axis; a degenerate or non-finite size gives one cell.
-  Real side = std::max(cell, extent / Real(kMaxCells));
+  // At most kMaxCells per axis, and no smaller than reach, so that a
+  // triangle spans at most a few cells per axis even for a fast body
+  // (its box grown by reach on each side); a degenerate or non-finite size
+  // gives one cell.
+  Real side = std::max({cell, reach, extent / Real(kMaxCells)});
   if (!(side > Real(0)) || !std::isfinite(side)) side = Real(1);
   inv_ = Real(1) / side;
   for (int a = 0; a < 3; ++a) {

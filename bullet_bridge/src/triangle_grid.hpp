@@ -16,7 +16,8 @@ class TriangleGrid {
  public:
   // lo, hi: the features' box. tris: the candidate triangles, ascending;
   // tri_lo, tri_hi: every triangle's box, indexed by triangle. cell: the
-  // cell's side wanted (m); the grid has at most kMaxCells cells per axis.
+  // cell's side wanted (m); the side is at least reach, and the grid has at
+  // most kMaxCells cells per axis.
   void build(const xpbd::Vec3& lo, const xpbd::Vec3& hi, xpbd::Real cell, xpbd::Real reach,
              const std::vector<int>& tris, const std::vector<xpbd::Vec3>& tri_lo,
              const std::vector<xpbd::Vec3>& tri_hi);
