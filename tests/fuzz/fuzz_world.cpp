@@ -1,6 +1,6 @@
 // Fuzz target: the embedding API driven by a byte stream. Each operation
 // takes a byte for its kind and then its arguments: add or remove a system
-// (a small rope or cloth), add or remove and delete a rigid body, attach or
+// (a small rope or cloth, perhaps with collision triangles), add or remove and delete a rigid body, attach or
 // detach, change settings, write a particle or a body state (NaN and huge
 // values included), and step Bullet with any dt. The API may refuse an
 // argument by throwing (ConfigError, out_of_range: caught here); nothing
@@ -81,6 +81,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
               c.ny = in.ConsumeIntegralInRange<int>(2, 6);
               c.origin = vec(in, -1, 1);
               c.pins = in.ConsumeBool() ? xpbd::ClothPins::top_corners : xpbd::ClothPins::none;
+              c.collision_triangles = in.ConsumeBool();
               xpbd::add_cloth_grid(scene, c);
             }
             auto model = std::make_shared<const xpbd::Model>(xpbd::compile(scene));
@@ -148,6 +149,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
               set.direct_chains = in.ConsumeBool();
               set.chain_passes = in.ConsumeIntegralInRange<int>(0, 20);
               set.chain_tolerance = value(in, 0, 0.01f);
+              set.coloured = in.ConsumeBool();
+              set.alternate_sweeps = in.ConsumeBool();
+              set.hierarchy = in.ConsumeBool();
+              set.hierarchy_slack = value(in, 0, 0.05f);
               // The accuracy targets, kept cheap (at most 12 substeps).
               set.tolerance.strain = in.ConsumeBool() ? 0 : double(value(in, 0, 0.2f));
               set.tolerance.penetration = in.ConsumeBool() ? 0 : double(value(in, 0, 0.01f));
