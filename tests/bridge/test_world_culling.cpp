@@ -35,6 +35,23 @@ btTransform pose(const Vec3& x, const btQuaternion& q = btQuaternion::getIdentit
   return btTransform(q, bt(x));
 }
 
+// A 16 x 16 cloth, 1.4 m, 0.45 m up, two corners pinned (inverse mass 0:
+// never in a contact); triangles: with collision triangles.
+xpbd::ClothGridDesc test_cloth(bool triangles) {
+  xpbd::ClothGridDesc d;
+  d.nx = d.ny = 16;
+  d.size_u = d.size_v = Real(1.4);
+  d.u = Vec3::UnitX();
+  d.v = Vec3::UnitZ();
+  d.origin = Vec3(Real(-0.7), Real(0.45), Real(-0.7));
+  d.mass = Real(0.3);
+  d.radius = Real(0.004);
+  d.bend_mat.compliance = Real(1e-2);
+  d.pinned = {{0, 0}, {15, 0}};
+  d.collision_triangles = triangles;
+  return d;
+}
+
 // One Bullet world with the test scene and an XpbdWorld holding a cloth and
 // a handful of fast particles. Built identically for both culling modes.
 struct Scene {
@@ -104,20 +121,8 @@ struct Scene {
     set.contacts.cull = cull;
     set.contacts.triangle_bvh_from = bvh_from;
     {
-      // 16 x 16 cloth, 1.4 m, two corners pinned (inverse mass 0: never in a contact).
       xpbd::SceneDesc scene;
-      xpbd::ClothGridDesc d;
-      d.nx = d.ny = 16;
-      d.size_u = d.size_v = Real(1.4);
-      d.u = Vec3::UnitX();
-      d.v = Vec3::UnitZ();
-      d.origin = Vec3(Real(-0.7), Real(0.45), Real(-0.7));
-      d.mass = Real(0.3);
-      d.radius = Real(0.004);
-      d.bend_mat.compliance = Real(1e-2);
-      d.pinned = {{0, 0}, {15, 0}};
-      d.collision_triangles = triangles;
-      xpbd::add_cloth_grid(scene, d);
+      xpbd::add_cloth_grid(scene, test_cloth(triangles));
       System s = make_system(scene);
       cloth = xw->add_system(s.model, s.state, set);
     }
@@ -208,6 +213,19 @@ TEST(WorldCulling, SameContactsAndTrajectoriesAsBruteForceOnEveryShapeKind) {
   std::printf("queries over %d steps: %ld culled, %ld brute force\n", steps, queries_culled, queries_brute);
 }
 
+// Exact comparison of two triangle contact lists (the hierarchy's and the
+// loop's), and of the steps they gave.
+void expect_same_triangle_step(const xpbd::State& a, const xpbd::State& b, const std::string& where) {
+  ASSERT_EQ(a.triangle_contacts.size(), b.triangle_contacts.size()) << where;
+  for (std::size_t c = 0; c < a.triangle_contacts.size(); ++c) {
+    const xpbd::BodyTriangleContact &p = a.triangle_contacts[c], &q = b.triangle_contacts[c];
+    ASSERT_TRUE(p.body == q.body && p.r == q.r && p.tri == q.tri && p.side == q.side && p.thickness == q.thickness)
+        << where << ", triangle contact " << c;
+  }
+  ASSERT_EQ(a.x, b.x) << where;
+  ASSERT_EQ(a.v, b.v) << where;
+}
+
 // The hierarchy of the collision triangles only filters: every triangle it
 // drops fails the loop's own box test, so the triangle contacts (and the
 // step) are the loop's, bit for bit, over 1 s of a cloth falling onto
@@ -221,17 +239,9 @@ TEST(WorldCulling, TriangleHierarchyGivesTheLoopsTriangleContacts) {
     loop.bw.step();
     const std::string where = "step " + std::to_string(k);
     const xpbd::State& a = bvh.xw->state(bvh.cloth);
-    const xpbd::State& b = loop.xw->state(loop.cloth);
-    ASSERT_EQ(a.triangle_contacts.size(), b.triangle_contacts.size()) << where;
-    for (std::size_t c = 0; c < a.triangle_contacts.size(); ++c) {
-      const xpbd::BodyTriangleContact &p = a.triangle_contacts[c], &q = b.triangle_contacts[c];
-      ASSERT_TRUE(p.body == q.body && p.r == q.r && p.tri == q.tri && p.side == q.side && p.thickness == q.thickness)
-          << where << ", triangle contact " << c;
-      ++per_body[bvh.body_name(bvh.cloth, p.body)];
-    }
+    ASSERT_NO_FATAL_FAILURE(expect_same_triangle_step(a, loop.xw->state(loop.cloth), where));
+    for (const auto& c : a.triangle_contacts) ++per_body[bvh.body_name(bvh.cloth, c.body)];
     triangle_contacts += long(a.triangle_contacts.size());
-    ASSERT_EQ(a.x, b.x) << where;
-    ASSERT_EQ(a.v, b.v) << where;
   }
   // It means something only if features of several bodies, the spinning
   // one among them, met the triangles.
@@ -243,7 +253,7 @@ TEST(WorldCulling, TriangleHierarchyGivesTheLoopsTriangleContacts) {
 }
 
 // The same under a body whose features are near most of the cloth: a tilted
-// slab of 1.2 m x 1.2 m under the 1.4 m cloth has about 400 of the 450
+// slab of 1.2 m x 1.2 m under the 1.4 m cloth (test_cloth) has about 400 of the 450
 // triangles near its features, more than the 256 up to which the body's
 // triangles are sorted into a grid; each feature then queries the hierarchy
 // itself.
@@ -259,15 +269,7 @@ TEST(WorldCulling, TriangleHierarchyGivesTheLoopsTriangleContactsUnderALargeBody
       SystemSettings set;
       set.contacts.triangle_bvh_from = bvh_from;
       xpbd::SceneDesc scene;
-      xpbd::ClothGridDesc d;
-      d.nx = d.ny = 16;
-      d.size_u = d.size_v = Real(1.4);
-      d.u = Vec3::UnitX();
-      d.v = Vec3::UnitZ();
-      d.origin = Vec3(Real(-0.7), Real(0.4), Real(-0.7));
-      d.mass = Real(0.3);
-      d.collision_triangles = true;
-      xpbd::add_cloth_grid(scene, d);
+      xpbd::add_cloth_grid(scene, test_cloth(true));
       System s = make_system(scene);
       cloth = xw->add_system(s.model, s.state, set);
     }
@@ -279,16 +281,8 @@ TEST(WorldCulling, TriangleHierarchyGivesTheLoopsTriangleContactsUnderALargeBody
     loop.bw.step();
     const std::string where = "step " + std::to_string(k);
     const xpbd::State& a = bvh.xw->state(bvh.cloth);
-    const xpbd::State& b = loop.xw->state(loop.cloth);
-    ASSERT_EQ(a.triangle_contacts.size(), b.triangle_contacts.size()) << where;
-    for (std::size_t c = 0; c < a.triangle_contacts.size(); ++c) {
-      const xpbd::BodyTriangleContact &p = a.triangle_contacts[c], &q = b.triangle_contacts[c];
-      ASSERT_TRUE(p.body == q.body && p.r == q.r && p.tri == q.tri && p.side == q.side && p.thickness == q.thickness)
-          << where << ", triangle contact " << c;
-    }
+    ASSERT_NO_FATAL_FAILURE(expect_same_triangle_step(a, loop.xw->state(loop.cloth), where));
     triangle_contacts += long(a.triangle_contacts.size());
-    ASSERT_EQ(a.x, b.x) << where;
-    ASSERT_EQ(a.v, b.v) << where;
   }
   std::printf("triangle contacts over 60 steps: %ld\n", triangle_contacts);
   EXPECT_GT(triangle_contacts, 0);
