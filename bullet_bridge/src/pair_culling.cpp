@@ -9,6 +9,7 @@ namespace xpbd_bullet::detail {
 namespace {
 
 constexpr std::int64_t kMaxCells = 512;  // cells one candidate box may cover in the grid
+constexpr std::size_t kPiece = 1024;     // particles per piece of the pair search
 
 // False only if the cube of half size `half` (m) around c and the box are
 // apart on an axis. A NaN makes every comparison false, so a pair with a NaN
@@ -23,7 +24,8 @@ bool overlaps(const Vec3& c, Real half, const Box& b) {
 
 }  // namespace
 
-void find_pairs(const std::vector<Vec3>& x, const std::vector<Real>& inv_mass, ContactScratch& sc) {
+void find_pairs(const std::vector<Vec3>& x, const std::vector<Real>& inv_mass, ContactScratch& sc,
+                xpbd::Workers* workers) {
   using xpbd::Cell;
   namespace hd = xpbd::detail;
   const std::size_t n = x.size();
@@ -92,32 +94,51 @@ void find_pairs(const std::vector<Vec3>& x, const std::vector<Real>& inv_mass, C
   for (std::size_t b = table; b > 0; --b) sc.bucket_begin[b] = sc.bucket_begin[b - 1];
   sc.bucket_begin[0] = 0;
 
-  // Overlapping pairs, particle by particle in increasing order.
-  sc.found.clear();
-  for (std::size_t i = 0; i < n; ++i) {
-    if (inv_mass[i] == Real(0)) continue;  // never gets a contact
-    const Vec3& xi = x[i];
-    const Real h = sc.half[i];
-    auto test = [&](Index k) {
-      if (overlaps(xi, h, sc.candidates[std::size_t(k)].box)) sc.found.push_back({k, Index(i)});
-    };
-    if (h <= grid_reach && xi.allFinite()) {  // false for a NaN half size: tested against all
-      const Cell q = hd::cell_at(xi, inv_cell);
-      const std::uint32_t b = hd::bucket_of(q, mask);
-      for (Index e = sc.bucket_begin[b]; e < sc.bucket_begin[b + 1]; ++e)
-        if (hd::same_cell(sc.grid[std::size_t(e)].cell, q)) test(sc.grid[std::size_t(e)].candidate);
-      for (Index k : sc.wide) test(k);
-    } else {
-      for (std::size_t k = 0; k < nc; ++k) test(Index(k));
+  // Overlapping pairs, particle by particle in increasing order (in pieces
+  // of kPiece particles on the pool, each into its own list).
+  const std::size_t pieces = (n + kPiece - 1) / kPiece;
+  if (sc.found.size() < std::max<std::size_t>(pieces, 1)) sc.found.resize(std::max<std::size_t>(pieces, 1));
+  for (auto& f : sc.found) f.clear();
+  const auto pairs_of = [&](std::size_t begin, std::size_t end, std::size_t piece) {
+    std::vector<std::array<Index, 2>>& found = sc.found[piece];
+    for (std::size_t i = begin; i < end; ++i) {
+      if (inv_mass[i] == Real(0)) continue;  // never gets a contact
+      const Vec3& xi = x[i];
+      const Real h = sc.half[i];
+      auto test = [&](Index k) {
+        if (overlaps(xi, h, sc.candidates[std::size_t(k)].box)) found.push_back({k, Index(i)});
+      };
+      if (h <= grid_reach && xi.allFinite()) {  // false for a NaN half size: tested against all
+        const Cell q = hd::cell_at(xi, inv_cell);
+        const std::uint32_t b = hd::bucket_of(q, mask);
+        for (Index e = sc.bucket_begin[b]; e < sc.bucket_begin[b + 1]; ++e)
+          if (hd::same_cell(sc.grid[std::size_t(e)].cell, q)) test(sc.grid[std::size_t(e)].candidate);
+        for (Index k : sc.wide) test(k);
+      } else {
+        for (std::size_t k = 0; k < nc; ++k) test(Index(k));
+      }
     }
-  }
+  };
+  if (workers != nullptr && workers->threads() > 1 && pieces > 1)
+    workers->run(static_cast<int>(pieces), [&](int p) {
+      const std::size_t b = std::size_t(p) * kPiece;
+      pairs_of(b, std::min(n, b + kPiece), std::size_t(p));
+    });
+  else
+    for (std::size_t p = 0; p < pieces; ++p) pairs_of(p * kPiece, std::min(n, (p + 1) * kPiece), p);
 
-  // Grouped by candidate (a stable counting sort keeps the particles increasing).
+  // Grouped by candidate (a stable counting sort, over the pieces in order,
+  // keeps the particles increasing).
   sc.pair_begin.assign(nc + 1, 0);
-  for (const auto& f : sc.found) ++sc.pair_begin[std::size_t(f[0]) + 1];
+  std::size_t total = 0;
+  for (const auto& found : sc.found) {
+    for (const auto& f : found) ++sc.pair_begin[std::size_t(f[0]) + 1];
+    total += found.size();
+  }
   for (std::size_t k = 0; k < nc; ++k) sc.pair_begin[k + 1] += sc.pair_begin[k];
-  sc.particles.resize(sc.found.size());
-  for (const auto& f : sc.found) sc.particles[std::size_t(sc.pair_begin[std::size_t(f[0])]++)] = f[1];
+  sc.particles.resize(total);
+  for (const auto& found : sc.found)
+    for (const auto& f : found) sc.particles[std::size_t(sc.pair_begin[std::size_t(f[0])]++)] = f[1];
   for (std::size_t k = nc; k > 0; --k) sc.pair_begin[k] = sc.pair_begin[k - 1];
   sc.pair_begin[0] = 0;
 }

@@ -41,6 +41,7 @@
 #include <vector>
 
 #include "xpbd/spatial_hash.hpp"
+#include "xpbd/workers.hpp"
 #include "xpbd/types.hpp"
 
 namespace xpbd_bullet::detail {
@@ -57,6 +58,7 @@ struct Box {
 // One broadphase candidate of the current step, as the contact loop uses it.
 struct Candidate {
   const btCollisionObject* obj = nullptr;
+  int shadow = -1;         // index of its shadow (XpbdWorld::shadows_)
   btTransform to_pose;     // world points at the body's start pose -> the same body points where its shape is
   btTransform pose_inv;    // inverse of the pose its shape is at
   Vec3 vb = Vec3::Zero();  // m/s, linear velocity at the start of the step
@@ -86,7 +88,9 @@ struct ContactScratch {
   std::vector<GridEntry> grid;         // the same, grouped by bucket
   std::vector<Index> bucket_begin;     // 2^k + 1 offsets into grid
   std::vector<Index> wide;             // candidates not in the grid
-  std::vector<std::array<Index, 2>> found;  // (candidate, particle), particles increasing
+  // (candidate, particle), particles increasing: per piece of the particles
+  // (find_pairs), in order.
+  std::vector<std::vector<std::array<Index, 2>>> found;
   std::vector<Index> pair_begin;       // per candidate + 1: offsets into particles
   std::vector<Index> particles;        // particles of each candidate, increasing
 };
@@ -94,7 +98,9 @@ struct ContactScratch {
 // Fills sc.pair_begin / sc.particles: for every candidate k, the movable
 // particles i, in increasing order, whose cube [x_i - half_i, x_i + half_i]
 // overlaps candidates[k].box. The grid only finds them faster: the result is
-// exactly that box test over all pairs.
-void find_pairs(const std::vector<Vec3>& x, const std::vector<Real>& inv_mass, ContactScratch& sc);
+// exactly that box test over all pairs. workers: a pool that tests pieces
+// of the particles in parallel (the same result), or null.
+void find_pairs(const std::vector<Vec3>& x, const std::vector<Real>& inv_mass, ContactScratch& sc,
+                xpbd::Workers* workers = nullptr);
 
 }  // namespace xpbd_bullet::detail

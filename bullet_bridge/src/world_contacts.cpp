@@ -141,6 +141,41 @@ void XpbdWorld::add_world_contacts(System& s, btScalar dt) {
   }
 }
 
+void XpbdWorld::particle_contacts_of(const System& s, std::size_t k, btScalar dt, CandidateContacts& out) const {
+  const xpbd::Model& m = *s.model;
+  const xpbd::State& st = s.state;
+  const ContactSettings& cs = s.settings.contacts;
+  const detail::ContactScratch& sc = s.contact;
+  const detail::Candidate& cand = sc.candidates[k];
+  const btCollisionObject* obj = cand.obj;
+  const Index n = m.num_particles();
+  // A particle attached to this body does not collide with it: the
+  // attachment holds it at a point of the body, often on its surface, where
+  // a contact would push it off by the thickness and fight the attachment at
+  // every substep.
+  const bool has_attached = std::any_of(attachments_.begin(), attachments_.end(), [&](const Attachment& a) {
+    return a.system == s.id && a.body == obj;
+  });
+  // The culled pairs of this candidate, or every particle.
+  const Index* const listed = sc.particles.data() + (cs.cull ? sc.pair_begin[k] : 0);
+  const Index count = cs.cull ? sc.pair_begin[k + 1] - sc.pair_begin[k] : n;
+  for (Index j = 0; j < count; ++j) {
+    const Index i = cs.cull ? listed[j] : j;
+    if (m.inv_mass[i] == Real(0)) continue;  // never in a culled list
+    if (has_attached && attached(s, obj, i)) continue;
+    ++out.queries;
+    const Real thick = m.radius[i] + cs.thickness;
+    // The particle's position relative to the body at the start of the
+    // step, expressed at the pose Bullet's shape is at.
+    const Vec3 x = to_vec(cand.to_pose * to_bt(st.x[i]));
+    const Real travel = dt * ((st.v[i] - cand.vb).norm() + cand.ab + cand.wb * cand.extent);
+    ParticleContact c;
+    const Real reach = thick + cs.margin + (cand.by_motion ? Real(0) : travel);
+    if (!detail::particle_query(*obj, x, dt * (st.v[i] - cand.vb), travel, reach, cs.margin, c)) continue;
+    out.particle.push_back(detail::body_contact(cs, *obj, i, -1, thick, cand.pose_inv, c));
+  }
+}
+
 namespace {
 
 // The tolerance's controller (SystemSettings::tolerance, settings.hpp): the
@@ -238,6 +273,7 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
       const Shadow& sh = shadows_[shi];
       detail::Candidate c;
       c.obj = obj;
+      c.shadow = shi;
       c.by_motion = std::find(by_motion_.begin(), by_motion_.end(), obj) != by_motion_.end();
       c.to_pose = sh.start_to_pose;
       c.pose_inv = sh.pose.inverse();
@@ -261,48 +297,50 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
       sc.half.resize(std::size_t(n));
       for (Index i = 0; i < n; ++i)
         sc.half[std::size_t(i)] = m.radius[i] + cs.thickness + cs.margin + dt * st.v[i].norm();
-      detail::find_pairs(st.x, m.inv_mass, sc);
+      detail::find_pairs(st.x, m.inv_mass, sc, set.workers);
     }
 
-    for (std::size_t k = 0; k < sc.candidates.size(); ++k) {
-      // Local copies: the loop below writes to st.contacts and shadows_.
-      const detail::Candidate& cand = sc.candidates[k];
-      const btCollisionObject* obj = cand.obj;
-      const btTransform to_pose = cand.to_pose;
-      const btTransform pose_inv = cand.pose_inv;
-      const Vec3 vb = cand.vb;
-      const Real ab = cand.ab, wb = cand.wb, extent = cand.extent;
-      Index body = -1;
-      // A particle attached to this body does not collide with it: the
-      // attachment holds it at a point of the body, often on its surface,
-      // where a contact would push it off by the thickness and fight the
-      // attachment at every substep.
-      const bool has_attached = std::any_of(attachments_.begin(), attachments_.end(), [&](const Attachment& a) {
-        return a.system == s.id && a.body == obj;
-      });
-      // The culled pairs of this candidate, or every particle.
-      const Index* const listed = sc.particles.data() + (cs.cull ? sc.pair_begin[k] : 0);
-      const Index count = cs.cull ? sc.pair_begin[k + 1] - sc.pair_begin[k] : n;
-      for (Index j = 0; j < count; ++j) {
-        const Index i = cs.cull ? listed[j] : j;
-        if (m.inv_mass[i] == Real(0)) continue;  // never in a culled list
-        if (has_attached && attached(s, obj, i)) continue;
-        ++stats_.queries;
-        const Real thick = m.radius[i] + cs.thickness;
-        // The particle's position relative to the body at the start of the
-        // step, expressed at the pose Bullet's shape is at.
-        const Vec3 x = to_vec(to_pose * to_bt(st.x[i]));
-        const Real travel = dt * ((st.v[i] - vb).norm() + ab + wb * extent);
-        ParticleContact c;
-        const Real reach = thick + cs.margin + (cand.by_motion ? Real(0) : travel);
-        if (!detail::particle_query(*obj, x, dt * (st.v[i] - vb), travel, reach, cs.margin, c))
-          continue;
-        if (body < 0) body = body_index(s, obj, dt);
-        st.contacts.push_back(detail::body_contact(cs, *obj, i, body, thick, pose_inv, c));
-      }
+    // Each candidate's contacts, on the threads of the system's pool if it
+    // has one, then joined in candidate order: the particle contacts first,
+    // then the feature-triangle ones, each candidate's body indexed at its
+    // first contact. The contacts, their order and the bodies' indices are
+    // those of one thread whatever the pool (WorldThreads tests).
+    const bool triangles = !m.collision_triangles.empty();
+    if (triangles && std::any_of(sc.candidates.begin(), sc.candidates.end(), [](const detail::Candidate& c) {
+          return detail::may_have_features(*c.obj);
+        }))
+      triangle_bounds(s, dt);
+    const std::size_t nc = sc.candidates.size();
+    if (s.found.size() < nc) s.found.resize(nc);
+    const int slots = set.workers ? static_cast<int>(std::min<std::size_t>(std::size_t(set.workers->threads()), nc)) : 1;
+    if (s.feature_scratch.size() < std::size_t(slots)) s.feature_scratch.resize(std::size_t(slots));
+    detail::for_each_candidate(set.workers, nc, slots, [&](std::size_t k, int slot) {
+      CandidateContacts& out = s.found[k];
+      out.clear();
+      particle_contacts_of(s, k, dt, out);
+      if (triangles) triangle_contacts_of(s, k, dt, lo, hi, s.feature_scratch[std::size_t(slot)], out);
+    });
+    for (std::size_t k = 0; k < nc; ++k) {
+      CandidateContacts& f = s.found[k];
+      stats_.queries += f.queries;
+      if (f.particle.empty()) continue;
+      const Index body = body_index(s, sc.candidates[k].obj, dt);
+      for (xpbd::BodyContact& c : f.particle) c.body = body;
+      st.contacts.insert(st.contacts.end(), f.particle.begin(), f.particle.end());
     }
     stats_.contacts += static_cast<int>(st.contacts.size());
-    if (!m.collision_triangles.empty()) find_triangle_contacts(s, dt, lo, hi);
+    if (triangles) {
+      for (std::size_t k = 0; k < nc; ++k) {
+        CandidateContacts& f = s.found[k];
+        stats_.swept_triangle_contacts += f.swept;
+        stats_.capped_features += f.capped;
+        if (f.triangle.empty()) continue;
+        const Index body = body_index(s, sc.candidates[k].obj, dt);
+        for (xpbd::BodyTriangleContact& c : f.triangle) c.body = body;
+        st.triangle_contacts.insert(st.triangle_contacts.end(), f.triangle.begin(), f.triangle.end());
+      }
+      stats_.triangle_contacts += static_cast<int>(st.triangle_contacts.size());
+    }
     const auto t1 = std::chrono::steady_clock::now();
     stats_.contact_seconds += std::chrono::duration<double>(t1 - t0).count();
     if (times) {

@@ -5,6 +5,7 @@
 // XPBD step of one system). Internal to the bridge.
 #include <btBulletDynamicsCommon.h>
 
+#include <atomic>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -12,6 +13,7 @@
 
 #include "pair_culling.hpp"
 #include "triangle_bvh.hpp"
+#include "triangle_grid.hpp"
 #include "xpbd/rigid.hpp"
 #include "xpbd_bullet/narrowphase.hpp"
 #include "xpbd_bullet/world.hpp"
@@ -80,6 +82,11 @@ void add_moving_candidates(btCollisionWorld& world, const Vec3& lo, const Vec3& 
 // frame's origin of a compound's child). world_triangle_contacts.cpp.
 void collect_features(const btCollisionShape& shape, const btTransform& t, Real spacing, std::vector<Vec3>& out,
                       bool edges = true, std::vector<Vec3>* centres = nullptr);
+
+// Whether collect_features or collect_mesh_features can give obj any
+// feature: a polyhedral shape (or a compound with one), or a static or
+// kinematic triangle mesh. world_triangle_contacts.cpp.
+bool may_have_features(const btCollisionObject& obj);
 
 // Appends the features of a triangle mesh (its own frame) among its
 // triangles that overlap the box lo..hi (the same frame): each corner of a
@@ -171,6 +178,72 @@ struct XpbdWorld::Shadow {
   Quat dq = Quat::Identity();
 };
 
+// What the contact search found for one candidate (body -1 until joined).
+struct XpbdWorld::CandidateContacts {
+  std::vector<xpbd::BodyContact> particle;
+  std::vector<xpbd::BodyTriangleContact> triangle;
+  int queries = 0;  // StepStats::queries
+  int swept = 0;    // StepStats::swept_triangle_contacts
+  int capped = 0;   // StepStats::capped_features
+  void clear() {
+    particle.clear();
+    triangle.clear();
+    queries = swept = capped = 0;
+  }
+};
+
+// One thread's scratch of the feature-triangle search, reused across steps.
+struct XpbdWorld::FeatureScratch {
+  std::vector<Vec3> features;                  // a body's feature points (body frame)
+  std::vector<Vec3> centres;                   // each feature's shape centre (body frame)
+  std::vector<std::array<Vec3, 3>> mesh_tris;  // a mesh's triangles near the system
+  std::vector<Vec3> feature_at;                // the features at the step's start (world)
+  std::vector<Real> feature_travel;            // and how far each can move over the step
+  std::vector<btTransform> path_tf;            // a fast body's poses along the step
+  std::vector<int> body_tris, tri_found;       // triangles the hierarchy returned (body, feature)
+  detail::TriangleGrid grid;                   // the body's triangles near its features
+};
+
+namespace detail {
+
+// Calls f(k, slot) once for every k in [0, count): on the calling thread in
+// order without a pool (or with one thread, or one item), else on up to
+// `slots` of the pool's threads, each taking the next k as it is free
+// (candidates differ much in cost). slot in [0, slots) names the thread's
+// scratch; no two threads run under one slot at a time.
+template <class F>
+void for_each_candidate(xpbd::Workers* workers, std::size_t count, int slots, F&& f) {
+  if (workers == nullptr || slots < 2 || count < 2) {
+    for (std::size_t k = 0; k < count; ++k) f(k, 0);
+    return;
+  }
+  std::atomic<std::size_t> next{0};
+  workers->run(slots, [&](int slot) {
+    for (std::size_t k = next.fetch_add(1, std::memory_order_relaxed); k < count;
+         k = next.fetch_add(1, std::memory_order_relaxed))
+      f(k, slot);
+  });
+}
+
+// Calls f(begin, end, piece) for the pieces [begin, end) of [0, count),
+// `chunk` items each (the last one shorter), piece = begin / chunk: all on
+// the calling thread as one piece (0, count, 0) without a pool (or with one
+// thread, or a single piece), else one task per piece on the pool.
+template <class F>
+void for_each_chunk(xpbd::Workers* workers, std::size_t count, std::size_t chunk, F&& f) {
+  const std::size_t pieces = (count + chunk - 1) / chunk;
+  if (workers == nullptr || workers->threads() < 2 || pieces < 2) {
+    if (count > 0) f(std::size_t(0), count, std::size_t(0));
+    return;
+  }
+  workers->run(static_cast<int>(pieces), [&](int p) {
+    const std::size_t b = std::size_t(p) * chunk;
+    f(b, std::min(count, b + chunk), std::size_t(p));
+  });
+}
+
+}  // namespace detail
+
 struct XpbdWorld::System {
   int id = 0;
   std::shared_ptr<const xpbd::Model> model;
@@ -181,6 +254,8 @@ struct XpbdWorld::System {
   std::vector<int> shadow_of_body;  // per State::bodies entry: index into shadows_
   std::vector<xpbd::RigidBody> free_bodies;  // scratch: bodies moved without contacts
   detail::ContactScratch contact;            // scratch of the contact search
+  std::vector<CandidateContacts> found;      // scratch: per candidate, what the search found
+  std::vector<FeatureScratch> feature_scratch;  // scratch: per thread of the search
   std::unique_ptr<detail::TriangleBvh> tri_bvh;  // ContactSettings::triangle_bvh_from; made on first use
   std::vector<BodyContactReport> report;     // contact_report(id): the last step's
   StepCallback callback;                     // set_step_callback(id)

@@ -2,7 +2,9 @@
 // points, hull vertices, the sharp edges and corners of static triangle
 // meshes) and a system's collision triangles: the
 // candidates from FCL's hierarchy of the triangles (triangle_bvh.hpp), the
-// exact tests, and the sweep of fast features (feature_sweep.hpp).
+// exact tests, and the sweep of fast features (feature_sweep.hpp). One
+// candidate body per call of triangle_contacts_of, which only reads the
+// world and the system (step_system may run it on several threads).
 #include <LinearMath/btTransformUtil.h>
 
 #include <algorithm>
@@ -163,268 +165,285 @@ inline bool outside(const Vec3& q, Real travel, const Vec3& lo, const Vec3& hi) 
 
 }  // namespace
 
-void XpbdWorld::find_triangle_contacts(System& s, btScalar dt, const Vec3& lo, const Vec3& hi) {
+namespace detail {
+
+// Declared in world_impl.hpp.
+bool may_have_features(const btCollisionObject& obj) {
+  const btCollisionShape& shape = *obj.getCollisionShape();
+  const auto polyhedral = [](const btCollisionShape& sh, const auto& self) -> bool {
+    if (!sh.isCompound()) return sh.isPolyhedral();
+    const auto& c = static_cast<const btCompoundShape&>(sh);
+    for (int i = 0; i < c.getNumChildShapes(); ++i)
+      if (self(*c.getChildShape(i), self)) return true;
+    return false;
+  };
+  return polyhedral(shape, polyhedral) || (obj.isStaticOrKinematicObject() && is_triangle_mesh(shape));
+}
+
+}  // namespace detail
+
+void XpbdWorld::triangle_bounds(System& s, btScalar dt) {
   const xpbd::Model& m = *s.model;
-  xpbd::State& st = s.state;
+  const xpbd::State& st = s.state;
+  const ContactSettings& cs = s.settings.contacts;
+  const auto& tris = m.collision_triangles;
+  // Each triangle's bounds over the step, grown by the thickness and margin
+  // (in pieces on the system's pool, if it has one).
+  tri_lo_.resize(tris.size());
+  tri_hi_.resize(tris.size());
+  detail::for_each_chunk(s.settings.workers, tris.size(), 2048, [&](std::size_t begin, std::size_t end, std::size_t) {
+    for (std::size_t t = begin; t < end; ++t) {
+      Vec3 a = Vec3::Constant(std::numeric_limits<Real>::max()), b = -a;
+      Real r = 0;
+      for (Index p : tris[t]) {
+        const Vec3 e = st.x[p] + dt * st.v[p];
+        a = a.cwiseMin(st.x[p]).cwiseMin(e);
+        b = b.cwiseMax(st.x[p]).cwiseMax(e);
+        r = std::max(r, m.radius[p]);
+      }
+      const Real grow = r + cs.thickness + cs.margin;
+      tri_lo_[t] = a.array() - grow;
+      tri_hi_[t] = b.array() + grow;
+    }
+  });
+  if (tris.size() >= std::size_t(cs.triangle_bvh_from)) {
+    if (!s.tri_bvh) s.tri_bvh = std::make_unique<detail::TriangleBvh>();
+    s.tri_bvh->update(tris, st.x, tri_lo_, tri_hi_);
+  }
+}
+
+void XpbdWorld::triangle_contacts_of(const System& s, std::size_t k, btScalar dt, const Vec3& lo, const Vec3& hi,
+                                     FeatureScratch& fs, CandidateContacts& out) const {
+  const xpbd::Model& m = *s.model;
+  const xpbd::State& st = s.state;
   const ContactSettings& cs = s.settings.contacts;
   const auto& tris = m.collision_triangles;
   const bool use_bvh = tris.size() >= std::size_t(cs.triangle_bvh_from);
-  bool bounds_ready = false;
-  std::vector<btTransform> path_tf;  // a fast body's poses along the step
+  const detail::Candidate& cand = s.contact.candidates[k];
+  const btCollisionObject* obj = cand.obj;
+  std::vector<Vec3>& features = fs.features;
+  std::vector<Vec3>& centres = fs.centres;
   std::array<Vec3, kSweepPieces + 1> path_at;  // a fast feature's path
   Vec3 path_lo, path_hi;                       // and its box
-  std::vector<Vec3> centres;                   // each feature's shape centre (body frame)
-  std::vector<std::array<Vec3, 3>> mesh_tris;  // a mesh's triangles near the system
-  std::vector<Vec3> feature_at;                // a body's features at the step's start (world)
-  std::vector<Real> feature_travel;            // and how far each can move over the step
-  detail::TriangleGrid grid;                   // the body's triangles near its features
-  for (const btCollisionObject* obj : candidates_) {
-    features_.clear();
-    centres.clear();
-    const btCollisionShape& shape = *obj->getCollisionShape();
-    detail::collect_features(shape, btTransform::getIdentity(), cs.feature_spacing, features_, true, &centres);
-    const bool mesh = features_.empty() && obj->isStaticOrKinematicObject() && is_triangle_mesh(shape);
-    if (mesh) {
-      // A static or kinematic triangle mesh: the sharp edges and corners of
-      // its triangles within the system's box, in the mesh's frame. A
-      // kinematic mesh moves over the step (from its shadow's start to the
-      // pose Bullet has put it at): the box is taken in its frame at both
-      // ends, grown by how far its rotation can carry a corner in between.
-      const Shadow& sh = shadows_[shadow_for(obj, dt)];
-      Vec3 llo = Vec3::Constant(std::numeric_limits<Real>::max()), lhi = -llo;
-      Real reach = 0;  // m, the farthest corner from the mesh's origin
-      for (const btTransform& at : {sh.start, sh.pose}) {
-        const btTransform inv = at.inverse();
-        for (int c = 0; c < 8; ++c) {
-          const Vec3 corner((c & 1) ? hi.x() : lo.x(), (c & 2) ? hi.y() : lo.y(), (c & 4) ? hi.z() : lo.z());
-          const Vec3 q = to_vec(inv * to_bt(corner));
-          llo = llo.cwiseMin(q);
-          lhi = lhi.cwiseMax(q);
-          reach = std::max(reach, q.norm());
-        }
-      }
-      const Real pad = dt * sh.w.norm() * reach;
-      llo.array() -= pad;
-      lhi.array() += pad;
-      detail::collect_mesh_features(static_cast<const btConcaveShape&>(shape), llo, lhi, cs.feature_spacing,
-                                    mesh_tris, features_);
-      // A mesh has no inside to take a side from (a fast feature found over
-      // a triangle keeps its own side; see try_triangle).
-      centres.assign(features_.size(), Vec3::Constant(std::numeric_limits<Real>::quiet_NaN()));
-    }
-    if (features_.empty()) continue;
-    const int shi = shadow_for(obj, dt);
-    const Shadow& sh = shadows_[shi];
-    const btTransform start = sh.start;
-    const Vec3 vb = sh.v;
-    // Speed gained over the step from the body's forces (m/s, rad/s).
-    const Real ab = dt * sh.accel.norm();
-    const Real wb = sh.w.norm() + dt * sh.ang_accel.norm();
-    if (!bounds_ready) {
-      // Each triangle's bounds over the step, grown by the thickness and margin.
-      tri_lo_.resize(tris.size());
-      tri_hi_.resize(tris.size());
-      for (std::size_t t = 0; t < tris.size(); ++t) {
-        Vec3 a = Vec3::Constant(std::numeric_limits<Real>::max()), b = -a;
-        Real r = 0;
-        for (Index p : tris[t]) {
-          const Vec3 e = st.x[p] + dt * st.v[p];
-          a = a.cwiseMin(st.x[p]).cwiseMin(e);
-          b = b.cwiseMax(st.x[p]).cwiseMax(e);
-          r = std::max(r, m.radius[p]);
-        }
-        const Real grow = r + cs.thickness + cs.margin;
-        tri_lo_[t] = a.array() - grow;
-        tri_hi_[t] = b.array() + grow;
-      }
-      if (use_bvh) {
-        if (!s.tri_bvh) s.tri_bvh = std::make_unique<detail::TriangleBvh>();
-        s.tri_bvh->update(tris, st.x, tri_lo_, tri_hi_);
-      }
-      bounds_ready = true;
-    }
-    Index body = -1;
-    int feature_contacts = 0;  // of the feature being tested
-    // Continuous collision for features that move farther than the
-    // thickness in the step: each one's path over the step, as the body's
-    // screw motion cut into `pieces` of turn phi <= sqrt(thickness / (2 r))
-    // each, whose chords then stay within a sixteenth of the thickness of
-    // the arc (sagitta r phi^2 / 8).
-    const Real fast_from = std::max(cs.thickness, Real(1e-3));
-    Real r_max = 0;
-    for (const Vec3& local : features_) r_max = std::max(r_max, local.norm());
-    // Clamped before the cast: a huge spin (or a NaN) must not overflow it.
-    const Real want = std::ceil(dt * wb * std::sqrt(r_max / (Real(0.5) * fast_from)));
-    const int pieces = want >= Real(1) ? (want < Real(kSweepPieces) ? static_cast<int>(want) : kSweepPieces) : 1;
-    path_tf.clear();
-    if (dt * (vb.norm() + ab + wb * r_max) > fast_from && cs.sweep_features) {
-      const btVector3 v_mean = to_bt(vb + Real(0.5) * dt * sh.accel), w_mean = to_bt(sh.w + Real(0.5) * dt * sh.ang_accel);
-      for (int k = 0; k <= pieces; ++k) {
-        btTransform at;
-        btTransformUtil::integrateTransform(start, v_mean, w_mean, dt * btScalar(k) / btScalar(pieces), at);
-        path_tf.push_back(at);
+  features.clear();
+  centres.clear();
+  const btCollisionShape& shape = *obj->getCollisionShape();
+  detail::collect_features(shape, btTransform::getIdentity(), cs.feature_spacing, features, true, &centres);
+  const Shadow& sh = shadows_[std::size_t(cand.shadow)];
+  const bool mesh = features.empty() && obj->isStaticOrKinematicObject() && is_triangle_mesh(shape);
+  if (mesh) {
+    // A static or kinematic triangle mesh: the sharp edges and corners of
+    // its triangles within the system's box, in the mesh's frame. A
+    // kinematic mesh moves over the step (from its shadow's start to the
+    // pose Bullet has put it at): the box is taken in its frame at both
+    // ends, grown by how far its rotation can carry a corner in between.
+    Vec3 llo = Vec3::Constant(std::numeric_limits<Real>::max()), lhi = -llo;
+    Real reach = 0;  // m, the farthest corner from the mesh's origin
+    for (const btTransform& at : {sh.start, sh.pose}) {
+      const btTransform inv = at.inverse();
+      for (int c = 0; c < 8; ++c) {
+        const Vec3 corner((c & 1) ? hi.x() : lo.x(), (c & 2) ? hi.y() : lo.y(), (c & 4) ? hi.z() : lo.z());
+        const Vec3 q = to_vec(inv * to_bt(corner));
+        llo = llo.cwiseMin(q);
+        lhi = lhi.cwiseMax(q);
+        reach = std::max(reach, q.norm());
       }
     }
-    // Feature at q0 (start of the step) that may travel `travel`, against
-    // triangle t, whose grown swept box it reaches (the caller tests that,
-    // `outside`): the exact tests, then the contact. path: the feature's
-    // path (pieces + 1 points) when it is fast, else null; centre: its
-    // shape's centre, read only with a path.
-    auto try_triangle = [&](const Vec3& local, const Vec3& q0, Real travel, std::size_t t, const Vec3* path,
-                            const Vec3& centre) {
-      // At most kFeatureTriangles contacts per feature and step (the first
-      // found): a feature rests on a few triangles; more means a thickness
-      // far beyond the cloth's triangles (a fuzzed scene with 5 m made
-      // 470,000 contacts per step, and its sweeps took 190 ms per frame).
-      if (feature_contacts == kFeatureTriangles) return;
-      const auto& tri = tris[t];
-      const Vec3 x1 = st.x[tri[0]], e1 = st.x[tri[1]] - x1, e2 = st.x[tri[2]] - x1;
-      const Vec3 nn = e1.cross(e2);
-      const Real a2 = nn.squaredNorm();
-      if (!(a2 > Real(0))) return;
-      // Barycentric coordinates of the feature's projection: it must lie
-      // over the triangle (with a margin of one feature spacing relative to
-      // the triangle size, so a corner over a shared edge hits both sides).
-      const Vec3 d = q0 - x1;
-      const Real u = d.cross(e2).dot(nn) / a2;  // weight of x2
-      const Real v = e1.cross(d).dot(nn) / a2;  // weight of x3
-      const Real tol = Real(0.05);
-      const bool over = !(u < -tol || v < -tol || u + v > Real(1) + tol);
-      if (!over && path == nullptr) return;
-      const Real dist = d.dot(nn) / std::sqrt(a2);
-      Real r = 0;
-      for (Index p : tri) r = std::max(r, m.radius[p]);
-      const Real thick = r + cs.thickness;
-      Real move = travel;
-      for (Index p : tri) move = std::max(move, dt * ((st.v[p] - vb).norm() + ab));
-      Real side = dist >= Real(0) ? Real(1) : Real(-1);
-      bool swept = false;
-      if (over && path != nullptr && std::abs(dist) <= thick && centre.allFinite()) {
-        // A fast feature found over the triangle, near it: it belongs on the
-        // side of its shape's centre. On the other side it has gone through
-        // (a thin blade's edge through a cloth it sweeps under), and the
-        // contact pushes the triangle back over it, not on through.
-        side = (centre - x1).dot(nn) >= Real(0) ? Real(1) : Real(-1);
-      }
-      if (!over || std::abs(dist) > thick + cs.margin + move) {
-        // Not over the triangle at the start, or not near it: a fast
-        // feature still gets the contact if its path enters the band over
-        // the triangle during the step.
-        if (path == nullptr) return;
-        // The path's box (its pieces' chords lie in it, padded by the
-        // chords' distance from the arc) against the triangle's grown
-        // swept box first: most candidates end there.
-        const Real pad = Real(0.25) * fast_from;
-        if ((path_lo.array() - pad > tri_hi_[t].array()).any() || (path_hi.array() + pad < tri_lo_[t].array()).any())
-          return;
-        const std::array<Vec3, 3> from{st.x[tri[0]], st.x[tri[1]], st.x[tri[2]]};
-        const std::array<Vec3, 3> to{from[0] + dt * st.v[tri[0]], from[1] + dt * st.v[tri[1]],
-                                     from[2] + dt * st.v[tri[2]]};
-        if (!detail::sweep_reaches_triangle(path, pieces + 1, from, to, dist >= Real(0) ? Real(1) : Real(-1), dist,
-                                            thick + cs.margin))
-          return;
-        swept = true;
-      }
-      if (++feature_contacts == kFeatureTriangles) ++stats_.capped_features;
-      if (swept) ++stats_.swept_triangle_contacts;
-      if (body < 0) body = body_index(s, obj, dt);
-      xpbd::BodyTriangleContact c;
-      c.body = body;
-      c.r = local;
-      c.tri = tri;
-      c.side = side;
-      c.thickness = thick;
-      // Combined with the body's friction by product, as particle contacts.
-      c.static_friction = cs.static_friction * obj->getFriction();
-      c.dynamic_friction = cs.dynamic_friction * obj->getFriction();
-      st.triangle_contacts.push_back(c);
-    };
-    // The hierarchy holds the grown boxes the test `outside` reads, so a
-    // query over a feature's box grown by its travel returns every triangle
-    // that test passes (rounding is monotone); the small pad is a margin on
-    // top, so the hierarchy never drops a triangle the loop over all of them
-    // would test.
-    auto pad_of = [](const Vec3& q, Real reach) {
-      return Real(1e-5) * (q.cwiseAbs().maxCoeff() + reach) + std::numeric_limits<Real>::min();
-    };
-    // With the hierarchy, first the triangles near the body's features as a
-    // whole (one query); a feature then tests those of its grid cell, in
-    // ascending order as the loop does, or, when they are many (a body under
-    // much of the cloth), queries the hierarchy itself.
-    // The features at the start of the step and how far they can move.
-    const std::size_t nf = features_.size();
-    feature_at.resize(nf);
-    feature_travel.resize(nf);
-    for (std::size_t i = 0; i < nf; ++i) {
-      feature_at[i] = to_vec(start * to_bt(features_[i]));
-      feature_travel[i] = dt * (vb.norm() + ab + wb * features_[i].norm());
-    }
-    bool per_feature = false;
-    if (use_bvh) {
-      Vec3 flo = Vec3::Constant(std::numeric_limits<Real>::max()), fhi = -flo;
-      Real reach = 0;
-      for (std::size_t i = 0; i < nf; ++i) {
-        flo = flo.cwiseMin(feature_at[i]);
-        fhi = fhi.cwiseMax(feature_at[i]);
-        reach = std::max(reach, feature_travel[i]);
-      }
-      const Real pad = pad_of(flo.cwiseAbs().cwiseMax(fhi.cwiseAbs()), reach);
-      body_tris_.clear();
-      s.tri_bvh->query((flo.array() - (reach + pad)).matrix(), (fhi.array() + (reach + pad)).matrix(), body_tris_);
-      per_feature = body_tris_.size() > kBodyTriangles;
-      if (!per_feature) {
-        // The body's triangles in a grid over its features: a triangle is in
-        // every cell its box, grown by the features' largest travel, meets;
-        // so the cell of a feature holds every triangle its own box test
-        // below can pass, in ascending order (the contacts are those of the
-        // loop, in its order).
-        Real side = 0;
-        for (const int t : body_tris_) side += (tri_hi_[std::size_t(t)] - tri_lo_[std::size_t(t)]).maxCoeff();
-        side *= kCellPerTriangle / Real(std::max<std::size_t>(body_tris_.size(), 1));
-        grid.build(flo, fhi, side, reach + pad, body_tris_, tri_lo_, tri_hi_);
-      }
-    }
-    for (std::size_t i = 0; i < nf; ++i) {
-      const Vec3& local = features_[i];
-      feature_contacts = 0;
-      // The feature at the start of the step and where it moves over the step.
-      const Vec3 q0 = feature_at[i];
-      const Real travel = feature_travel[i];
-      if ((q0.array() + travel < lo.array()).any() || (q0.array() - travel > hi.array()).any())
-        continue;
-      const Vec3* path = nullptr;
-      // Read only with a path (try_triangle).
-      const Vec3 centre = path_tf.empty() ? Vec3::Zero() : to_vec(start * to_bt(centres[i]));
-      if (!path_tf.empty() && travel > fast_from) {
-        path_lo = Vec3::Constant(std::numeric_limits<Real>::max());
-        path_hi = -path_lo;
-        for (int k = 0; k <= pieces; ++k) {
-          const Vec3 q = to_vec(path_tf[std::size_t(k)] * to_bt(local));
-          path_at[std::size_t(k)] = q;
-          path_lo = path_lo.cwiseMin(q);
-          path_hi = path_hi.cwiseMax(q);
-        }
-        path = path_at.data();
-      }
-      if (!use_bvh) {
-        for (std::size_t t = 0; t < tris.size(); ++t)
-          if (!outside(q0, travel, tri_lo_[t], tri_hi_[t])) try_triangle(local, q0, travel, t, path, centre);
-      } else if (!per_feature) {
-        const auto [near, near_end] = grid.near(q0);
-        for (const int* t = near; t != near_end; ++t)
-          if (!outside(q0, travel, tri_lo_[std::size_t(*t)], tri_hi_[std::size_t(*t)]))
-            try_triangle(local, q0, travel, std::size_t(*t), path, centre);
-      } else {
-        const Real reach = travel, pad = pad_of(q0, reach);
-        tri_found_.clear();
-        s.tri_bvh->query((q0.array() - (reach + pad)).matrix(), (q0.array() + (reach + pad)).matrix(), tri_found_);
-        for (const int t : tri_found_)
-          if (!outside(q0, travel, tri_lo_[std::size_t(t)], tri_hi_[std::size_t(t)]))
-            try_triangle(local, q0, travel, std::size_t(t), path, centre);
-      }
+    const Real pad = dt * sh.w.norm() * reach;
+    llo.array() -= pad;
+    lhi.array() += pad;
+    detail::collect_mesh_features(static_cast<const btConcaveShape&>(shape), llo, lhi, cs.feature_spacing,
+                                  fs.mesh_tris, features);
+    // A mesh has no inside to take a side from (a fast feature found over
+    // a triangle keeps its own side; see try_triangle).
+    centres.assign(features.size(), Vec3::Constant(std::numeric_limits<Real>::quiet_NaN()));
+  }
+  if (features.empty()) return;
+  const btTransform start = sh.start;
+  const Vec3 vb = sh.v;
+  // Speed gained over the step from the body's forces (m/s, rad/s).
+  const Real ab = dt * sh.accel.norm();
+  const Real wb = sh.w.norm() + dt * sh.ang_accel.norm();
+  int feature_contacts = 0;  // of the feature being tested
+  // Continuous collision for features that move farther than the
+  // thickness in the step: each one's path over the step, as the body's
+  // screw motion cut into `pieces` of turn phi <= sqrt(thickness / (2 r))
+  // each, whose chords then stay within a sixteenth of the thickness of
+  // the arc (sagitta r phi^2 / 8).
+  const Real fast_from = std::max(cs.thickness, Real(1e-3));
+  Real r_max = 0;
+  for (const Vec3& local : features) r_max = std::max(r_max, local.norm());
+  // Clamped before the cast: a huge spin (or a NaN) must not overflow it.
+  const Real want = std::ceil(dt * wb * std::sqrt(r_max / (Real(0.5) * fast_from)));
+  const int pieces = want >= Real(1) ? (want < Real(kSweepPieces) ? static_cast<int>(want) : kSweepPieces) : 1;
+  std::vector<btTransform>& path_tf = fs.path_tf;
+  path_tf.clear();
+  if (dt * (vb.norm() + ab + wb * r_max) > fast_from && cs.sweep_features) {
+    const btVector3 v_mean = to_bt(vb + Real(0.5) * dt * sh.accel), w_mean = to_bt(sh.w + Real(0.5) * dt * sh.ang_accel);
+    for (int p = 0; p <= pieces; ++p) {
+      btTransform at;
+      btTransformUtil::integrateTransform(start, v_mean, w_mean, dt * btScalar(p) / btScalar(pieces), at);
+      path_tf.push_back(at);
     }
   }
-  stats_.triangle_contacts += static_cast<int>(st.triangle_contacts.size());
+  // Feature at q0 (start of the step) that may travel `travel`, against
+  // triangle t, whose grown swept box it reaches (the caller tests that,
+  // `outside`): the exact tests, then the contact. path: the feature's
+  // path (pieces + 1 points) when it is fast, else null; centre: its
+  // shape's centre, read only with a path.
+  auto try_triangle = [&](const Vec3& local, const Vec3& q0, Real travel, std::size_t t, const Vec3* path,
+                          const Vec3& centre) {
+    // At most kFeatureTriangles contacts per feature and step (the first
+    // found): a feature rests on a few triangles; more means a thickness
+    // far beyond the cloth's triangles (a fuzzed scene with 5 m made
+    // 470,000 contacts per step, and its sweeps took 190 ms per frame).
+    if (feature_contacts == kFeatureTriangles) return;
+    const auto& tri = tris[t];
+    const Vec3 x1 = st.x[tri[0]], e1 = st.x[tri[1]] - x1, e2 = st.x[tri[2]] - x1;
+    const Vec3 nn = e1.cross(e2);
+    const Real a2 = nn.squaredNorm();
+    if (!(a2 > Real(0))) return;
+    // Barycentric coordinates of the feature's projection: it must lie
+    // over the triangle (with a margin of one feature spacing relative to
+    // the triangle size, so a corner over a shared edge hits both sides).
+    const Vec3 d = q0 - x1;
+    const Real u = d.cross(e2).dot(nn) / a2;  // weight of x2
+    const Real v = e1.cross(d).dot(nn) / a2;  // weight of x3
+    const Real tol = Real(0.05);
+    const bool over = !(u < -tol || v < -tol || u + v > Real(1) + tol);
+    if (!over && path == nullptr) return;
+    const Real dist = d.dot(nn) / std::sqrt(a2);
+    Real r = 0;
+    for (Index p : tri) r = std::max(r, m.radius[p]);
+    const Real thick = r + cs.thickness;
+    Real move = travel;
+    for (Index p : tri) move = std::max(move, dt * ((st.v[p] - vb).norm() + ab));
+    Real side = dist >= Real(0) ? Real(1) : Real(-1);
+    bool swept = false;
+    if (over && path != nullptr && std::abs(dist) <= thick && centre.allFinite()) {
+      // A fast feature found over the triangle, near it: it belongs on the
+      // side of its shape's centre. On the other side it has gone through
+      // (a thin blade's edge through a cloth it sweeps under), and the
+      // contact pushes the triangle back over it, not on through.
+      side = (centre - x1).dot(nn) >= Real(0) ? Real(1) : Real(-1);
+    }
+    if (!over || std::abs(dist) > thick + cs.margin + move) {
+      // Not over the triangle at the start, or not near it: a fast
+      // feature still gets the contact if its path enters the band over
+      // the triangle during the step.
+      if (path == nullptr) return;
+      // The path's box (its pieces' chords lie in it, padded by the
+      // chords' distance from the arc) against the triangle's grown
+      // swept box first: most candidates end there.
+      const Real pad = Real(0.25) * fast_from;
+      if ((path_lo.array() - pad > tri_hi_[t].array()).any() || (path_hi.array() + pad < tri_lo_[t].array()).any())
+        return;
+      const std::array<Vec3, 3> from{st.x[tri[0]], st.x[tri[1]], st.x[tri[2]]};
+      const std::array<Vec3, 3> to{from[0] + dt * st.v[tri[0]], from[1] + dt * st.v[tri[1]],
+                                   from[2] + dt * st.v[tri[2]]};
+      if (!detail::sweep_reaches_triangle(path, pieces + 1, from, to, dist >= Real(0) ? Real(1) : Real(-1), dist,
+                                          thick + cs.margin))
+        return;
+      swept = true;
+    }
+    if (++feature_contacts == kFeatureTriangles) ++out.capped;
+    if (swept) ++out.swept;
+    xpbd::BodyTriangleContact c;  // body: set when joined (step_system)
+    c.r = local;
+    c.tri = tri;
+    c.side = side;
+    c.thickness = thick;
+    // Combined with the body's friction by product, as particle contacts.
+    c.static_friction = cs.static_friction * obj->getFriction();
+    c.dynamic_friction = cs.dynamic_friction * obj->getFriction();
+    out.triangle.push_back(c);
+  };
+  // The hierarchy holds the grown boxes the test `outside` reads, so a
+  // query over a feature's box grown by its travel returns every triangle
+  // that test passes (rounding is monotone); the small pad is a margin on
+  // top, so the hierarchy never drops a triangle the loop over all of them
+  // would test.
+  auto pad_of = [](const Vec3& q, Real reach) {
+    return Real(1e-5) * (q.cwiseAbs().maxCoeff() + reach) + std::numeric_limits<Real>::min();
+  };
+  // With the hierarchy, first the triangles near the body's features as a
+  // whole (one query); a feature then tests those of its grid cell, in
+  // ascending order as the loop does, or, when they are many (a body under
+  // much of the cloth), queries the hierarchy itself.
+  // The features at the start of the step and how far they can move.
+  const std::size_t nf = features.size();
+  std::vector<Vec3>& feature_at = fs.feature_at;
+  std::vector<Real>& feature_travel = fs.feature_travel;
+  feature_at.resize(nf);
+  feature_travel.resize(nf);
+  for (std::size_t i = 0; i < nf; ++i) {
+    feature_at[i] = to_vec(start * to_bt(features[i]));
+    feature_travel[i] = dt * (vb.norm() + ab + wb * features[i].norm());
+  }
+  bool per_feature = false;
+  if (use_bvh) {
+    Vec3 flo = Vec3::Constant(std::numeric_limits<Real>::max()), fhi = -flo;
+    Real reach = 0;
+    for (std::size_t i = 0; i < nf; ++i) {
+      flo = flo.cwiseMin(feature_at[i]);
+      fhi = fhi.cwiseMax(feature_at[i]);
+      reach = std::max(reach, feature_travel[i]);
+    }
+    const Real pad = pad_of(flo.cwiseAbs().cwiseMax(fhi.cwiseAbs()), reach);
+    fs.body_tris.clear();
+    s.tri_bvh->query((flo.array() - (reach + pad)).matrix(), (fhi.array() + (reach + pad)).matrix(), fs.body_tris);
+    per_feature = fs.body_tris.size() > kBodyTriangles;
+    if (!per_feature) {
+      // The body's triangles in a grid over its features: a triangle is in
+      // every cell its box, grown by the features' largest travel, meets;
+      // so the cell of a feature holds every triangle its own box test
+      // below can pass, in ascending order (the contacts are those of the
+      // loop, in its order).
+      Real side = 0;
+      for (const int t : fs.body_tris) side += (tri_hi_[std::size_t(t)] - tri_lo_[std::size_t(t)]).maxCoeff();
+      side *= kCellPerTriangle / Real(std::max<std::size_t>(fs.body_tris.size(), 1));
+      fs.grid.build(flo, fhi, side, reach + pad, fs.body_tris, tri_lo_, tri_hi_);
+    }
+  }
+  for (std::size_t i = 0; i < nf; ++i) {
+    const Vec3& local = features[i];
+    feature_contacts = 0;
+    // The feature at the start of the step and where it moves over the step.
+    const Vec3 q0 = feature_at[i];
+    const Real travel = feature_travel[i];
+    if ((q0.array() + travel < lo.array()).any() || (q0.array() - travel > hi.array()).any())
+      continue;
+    const Vec3* path = nullptr;
+    // Read only with a path (try_triangle).
+    const Vec3 centre = path_tf.empty() ? Vec3::Zero() : to_vec(start * to_bt(centres[i]));
+    if (!path_tf.empty() && travel > fast_from) {
+      path_lo = Vec3::Constant(std::numeric_limits<Real>::max());
+      path_hi = -path_lo;
+      for (int k = 0; k <= pieces; ++k) {
+        const Vec3 q = to_vec(path_tf[std::size_t(k)] * to_bt(local));
+        path_at[std::size_t(k)] = q;
+        path_lo = path_lo.cwiseMin(q);
+        path_hi = path_hi.cwiseMax(q);
+      }
+      path = path_at.data();
+    }
+    if (!use_bvh) {
+      for (std::size_t t = 0; t < tris.size(); ++t)
+        if (!outside(q0, travel, tri_lo_[t], tri_hi_[t])) try_triangle(local, q0, travel, t, path, centre);
+    } else if (!per_feature) {
+      const auto [near, near_end] = fs.grid.near(q0);
+      for (const int* t = near; t != near_end; ++t)
+        if (!outside(q0, travel, tri_lo_[std::size_t(*t)], tri_hi_[std::size_t(*t)]))
+          try_triangle(local, q0, travel, std::size_t(*t), path, centre);
+    } else {
+      const Real reach = travel, pad = pad_of(q0, reach);
+      fs.tri_found.clear();
+      s.tri_bvh->query((q0.array() - (reach + pad)).matrix(), (q0.array() + (reach + pad)).matrix(), fs.tri_found);
+      for (const int t : fs.tri_found)
+        if (!outside(q0, travel, tri_lo_[std::size_t(t)], tri_hi_[std::size_t(t)]))
+          try_triangle(local, q0, travel, std::size_t(t), path, centre);
+    }
+  }
 }
 
 }  // namespace xpbd_bullet

@@ -22,6 +22,11 @@
 //
 //   cmake --build build/double --target bench_triangles && build/double/demos/bench/bench_triangles [n ...]
 //
+// `--threads T` (first) adds columns: the hierarchy's contact generation
+// with a pool of T threads (SystemSettings::workers, which the contact
+// search and the coloured sweep share), and the cloth's coloured step on the
+// same pool, each against the one-thread figures of the same run.
+//
 // For a profiler: `bench_triangles --profile n` runs only the hierarchy's
 // bridge step on the n x n cloth, 300 times, and prints nothing else (the
 // loop mode would dominate a profile of the whole program):
@@ -65,8 +70,10 @@ struct Scene {
   std::shared_ptr<const Model> model;
   State snapshot;
   int triangles = 0;
+  std::unique_ptr<Workers> pool;  // --threads
 
-  explicit Scene(int n) {
+  explicit Scene(int n, int threads = 1) {
+    if (threads > 1) pool = std::make_unique<Workers>(threads);
     world.setGravity(btVector3(0, Real(-9.81), 0));
     for (int i = 0; i < 10; ++i)
       for (int k = 0; k < 10; ++k) {
@@ -102,15 +109,19 @@ struct Scene {
     for (auto& b : bodies) world.removeRigidBody(b.get());
   }
 
-  static xpbd_bullet::SystemSettings settings(int bvh_from) {
+  // pool: threads for the contact search (and the coloured sweep they need).
+  static xpbd_bullet::SystemSettings settings(int bvh_from, Workers* pool = nullptr) {
     xpbd_bullet::SystemSettings s;  // 10 substeps x 1 iteration, default contacts
     s.contacts.triangle_bvh_from = bvh_from;
+    s.workers = pool;
+    s.coloured = pool != nullptr;
     return s;
   }
 
   // One bridge step from the snapshot; returns the contact generation time (s).
-  double bridge_step(bool bvh, std::vector<BodyTriangleContact>* contacts = nullptr) {
-    xw->set_settings(id, settings(bvh ? 0 : std::numeric_limits<int>::max()));
+  // threaded: on the pool.
+  double bridge_step(bool bvh, std::vector<BodyTriangleContact>* contacts = nullptr, bool threaded = false) {
+    xw->set_settings(id, settings(bvh ? 0 : std::numeric_limits<int>::max(), threaded ? pool.get() : nullptr));
     xw->state(id) = snapshot;
     xw->pre_solve(kDt);
     if (contacts) *contacts = xw->state(id).triangle_contacts;
@@ -120,7 +131,8 @@ struct Scene {
     return s;
   }
 
-  double cloth_step() {
+  // threaded: coloured, on the pool.
+  double cloth_step(bool threaded = false) {
     State st = snapshot;
     st.bodies.clear();
     st.contacts.clear();
@@ -130,6 +142,8 @@ struct Scene {
     c.dt = kDt;
     c.substeps = 10;
     c.gravity = Vec3(0, Real(-9.81), 0);
+    c.coloured = threaded;
+    c.workers = threaded ? pool.get() : nullptr;
     const auto t0 = std::chrono::steady_clock::now();
     step(*model, st, c);
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -148,22 +162,33 @@ bool same(const std::vector<BodyTriangleContact>& a, const std::vector<BodyTrian
 }  // namespace
 
 int main(int argc, char** argv) {
-  // Cloth sizes: the arguments (each >= 2), or the default ladder.
-  if (argc == 3 && std::string(argv[1]) == "--profile") {
-    const int n = std::atoi(argv[2]);
-    if (n < 2) {
-      std::fprintf(stderr, "bench_triangles: cloth size '%s' is not an integer >= 2\n", argv[2]);
+  int threads = 1;
+  int first = 1;
+  if (argc >= 3 && std::string(argv[1]) == "--threads") {
+    threads = std::atoi(argv[2]);
+    if (threads < 2) {
+      std::fprintf(stderr, "bench_triangles: --threads '%s' is not an integer >= 2\n", argv[2]);
       return 2;
     }
-    Scene s(n);
+    first = 3;
+  }
+  // Cloth sizes: the arguments (each >= 2), or the default ladder.
+  if (argc == first + 2 && std::string(argv[first]) == "--profile") {
+    const int n = std::atoi(argv[first + 1]);
+    if (n < 2) {
+      std::fprintf(stderr, "bench_triangles: cloth size '%s' is not an integer >= 2\n", argv[first + 1]);
+      return 2;
+    }
+    Scene s(n, threads);
     double total = 0;
-    for (int r = 0; r < 300; ++r) total += s.bridge_step(true);
-    std::printf("%d x %d: 300 hierarchy steps, contact generation %.3f ms each\n", n, n, total / 300 * 1e3);
+    for (int r = 0; r < 300; ++r) total += s.bridge_step(true, nullptr, threads > 1);
+    std::printf("%d x %d: 300 hierarchy steps on %d thread(s), contact generation %.3f ms each\n", n, n, threads,
+                total / 300 * 1e3);
     return 0;
   }
   std::vector<int> sizes = {4, 8, 16, 32, 64, 128};
-  if (argc > 1) sizes.clear();
-  for (int i = 1; i < argc; ++i) {
+  if (argc > first) sizes.clear();
+  for (int i = first; i < argc; ++i) {
     const int n = std::atoi(argv[i]);
     if (n < 2) {
       std::fprintf(stderr, "bench_triangles: cloth size '%s' is not an integer >= 2\n", argv[i]);
@@ -172,26 +197,41 @@ int main(int argc, char** argv) {
     sizes.push_back(n);
   }
   std::printf("| cloth | triangles | triangle contacts | cloth step (ms) | contacts, loop (ms) | contacts, hierarchy (ms) "
-              "| loop / cloth step | hierarchy / cloth step | loop / hierarchy |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|\n");
+              "| loop / cloth step | hierarchy / cloth step | loop / hierarchy |");
+  if (threads > 1)
+    std::printf(" hierarchy, %d threads (ms) | cloth step, coloured, %d threads (ms) | hierarchy / its %d threads "
+                "| hierarchy, %d threads / cloth step | the same / coloured step, %d threads |",
+                threads, threads, threads, threads, threads);
+  std::printf("\n|---|---|---|---|---|---|---|---|---|%s\n", threads > 1 ? "---|---|---|---|---|" : "");
   for (const int n : sizes) {
-    Scene s(n);
-    std::vector<BodyTriangleContact> a, b;
+    Scene s(n, threads);
+    std::vector<BodyTriangleContact> a, b, c;
     s.bridge_step(false, &a);
     s.bridge_step(true, &b);
-    if (!same(a, b)) {
-      std::fprintf(stderr, "bench_triangles: %d x %d: the hierarchy's triangle contacts differ from the loop's\n", n, n);
+    if (threads > 1) s.bridge_step(true, &c, true);
+    if (!same(a, b) || (threads > 1 && !same(b, c))) {
+      std::fprintf(stderr, "bench_triangles: %d x %d: the hierarchy's triangle contacts differ from the loop's%s\n", n,
+                   n, threads > 1 ? " (or the threads' from one thread's)" : "");
       return 1;
     }
-    std::vector<double> loop, bvh, cloth;
-    for (int r = 0; r < kRepeats; ++r) {  // interleaved, so that load hits all three alike
+    std::vector<double> loop, bvh, cloth, bvh_t, cloth_t;
+    for (int r = 0; r < kRepeats; ++r) {  // interleaved, so that load hits all of them alike
       loop.push_back(s.bridge_step(false));
       bvh.push_back(s.bridge_step(true));
       cloth.push_back(s.cloth_step());
+      if (threads > 1) {
+        bvh_t.push_back(s.bridge_step(true, nullptr, true));
+        cloth_t.push_back(s.cloth_step(true));
+      }
     }
-    const double l = median(loop) * 1e3, h = median(bvh) * 1e3, c = median(cloth) * 1e3;
-    std::printf("| %d x %d | %d | %zu | %.3f | %.3f | %.3f | %.2f | %.2f | %.1f |\n", n, n, s.triangles, a.size(), c, l,
-                h, l / c, h / c, l / h);
+    const double l = median(loop) * 1e3, h = median(bvh) * 1e3, cs = median(cloth) * 1e3;
+    std::printf("| %d x %d | %d | %zu | %.3f | %.3f | %.3f | %.2f | %.2f | %.1f |", n, n, s.triangles, a.size(), cs, l,
+                h, l / cs, h / cs, l / h);
+    if (threads > 1) {
+      const double ht = median(bvh_t) * 1e3, ct = median(cloth_t) * 1e3;
+      std::printf(" %.3f | %.3f | %.2f | %.2f | %.2f |", ht, ct, h / ht, ht / cs, ht / ct);
+    }
+    std::printf("\n");
   }
   return 0;
 }

@@ -181,8 +181,11 @@ struct SystemSettings {
   bool hierarchy = false;
   xpbd::Real hierarchy_slack = xpbd::Real(0.01);
   // Threads for the coloured sweep (xpbd::StepConfig::workers; needs
-  // coloured): a pool the application owns and keeps alive while the
-  // system steps; one pool can serve every system (they step in turn).
+  // coloured) and for the contact search, one broadphase candidate body at
+  // a time (the contacts are joined in candidate order: the same, bit for
+  // bit, on any number of threads): a pool the application owns and keeps
+  // alive while the system steps; one pool can serve every system (they
+  // step in turn).
   xpbd::Workers* workers = nullptr;
   // Extra sweeps where contacts need them (xpbd::StepConfig::contact_sweeps,
   // >= 0; 0 = off): e.g. 8 for a heavy body landing on cloth that supports

@@ -380,8 +380,22 @@ class XpbdWorld : public btActionInterface {
   // Bullet manifold with (its points, and the bodies' vertices near them),
   // into State::world_contacts.
   void add_world_contacts(System& s, btScalar dt);
-  // Rigid feature points of the candidates against s's collision triangles.
-  void find_triangle_contacts(System& s, btScalar dt, const xpbd::Vec3& lo, const xpbd::Vec3& hi);
+  // The contact search per broadphase candidate (s.contact.candidates[k]),
+  // run on the threads of s's pool (SystemSettings::workers) when it has
+  // one: each call only reads the world and s, and writes its own `out`
+  // (and the thread's scratch). The contacts have body -1 until step_system
+  // joins them in candidate order.
+  struct CandidateContacts;  // world_impl.hpp
+  struct FeatureScratch;     // world_impl.hpp
+  // s's particles against candidate k (world_contacts.cpp).
+  void particle_contacts_of(const System& s, std::size_t k, btScalar dt, CandidateContacts& out) const;
+  // Before triangle_contacts_of: every collision triangle's box over the
+  // step, and the hierarchy refitted to them (world_triangle_contacts.cpp).
+  void triangle_bounds(System& s, btScalar dt);
+  // Candidate k's rigid feature points against s's collision triangles; lo,
+  // hi: the system's box over the step (world_triangle_contacts.cpp).
+  void triangle_contacts_of(const System& s, std::size_t k, btScalar dt, const xpbd::Vec3& lo,
+                            const xpbd::Vec3& hi, FeatureScratch& scratch, CandidateContacts& out) const;
   // Inside the step, at the start of substep `sub`: contacts for the
   // particles that left the path their contacts cover (world_refresh.cpp).
   void refresh_contacts(System& s, btScalar dt, int sub, std::span<const xpbd::Index> escaped);
@@ -438,7 +452,6 @@ class XpbdWorld : public btActionInterface {
   std::vector<Shadow> shadows_;  // bodies touched in the current internal step
   std::vector<xpbd::Vec3> features_;  // scratch: feature points of one body (body frame)
   std::vector<xpbd::Vec3> tri_lo_, tri_hi_;  // scratch: swept triangle bounds
-  std::vector<int> tri_found_, body_tris_;  // scratch: triangles the hierarchy returned (feature, body)
   std::vector<btPersistentManifold*> spacers_;  // this step's spacer manifolds (world_spacers.cpp)
   std::vector<std::pair<xpbd::Index, std::size_t>> spacer_order_;  // scratch: (particle, contact)
   std::vector<char> settle_moved_, settle_next_;  // scratch: particles moved in a settle round

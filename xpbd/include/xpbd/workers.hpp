@@ -1,6 +1,7 @@
 #pragma once
 // A small pool of persistent threads for the coloured sweep
-// (StepConfig::workers). The elements of one colour share no particle, so
+// (StepConfig::workers; the Bullet bridge also runs its contact search on
+// it, xpbd_bullet::SystemSettings::workers). The elements of one colour share no particle, so
 // any split of a colour across threads projects exactly what one thread
 // would: the result is bit for bit the single-threaded coloured sweep's,
 // whatever the number of threads (tests/unit/test_workers.cpp).
