@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "xpbd/workers.hpp"
+
 #include <fcl/math/bv/utility.h>  // fit(), which BVH_model-inl.h uses
 #include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/math/bv/AABB.h>
@@ -29,7 +31,15 @@ struct TriangleBvh::Impl {
   std::vector<std::array<xpbd::Index, 3>> tris;  // what the tree was built for
   std::vector<Node> nodes;
   bool built = false;
+  std::vector<int> above, roots;  // scratch of a refit split over threads
 };
+
+namespace {
+// A refit on a pool splits the tree under its top kSplitDepth levels (up to
+// 2^kSplitDepth subtrees), for trees of at least kSplitFrom nodes.
+constexpr int kSplitDepth = 3;
+constexpr std::size_t kSplitFrom = 4096;
+}  // namespace
 
 TriangleBvh::TriangleBvh() : impl_(std::make_unique<Impl>()) {}
 TriangleBvh::~TriangleBvh() = default;
@@ -77,7 +87,8 @@ std::vector<Node> build(const std::vector<std::array<xpbd::Index, 3>>& tris, con
 }  // namespace
 
 void TriangleBvh::update(const std::vector<std::array<xpbd::Index, 3>>& tris, const std::vector<xpbd::Vec3>& x,
-                         const std::vector<xpbd::Vec3>& lo, const std::vector<xpbd::Vec3>& hi) {
+                         const std::vector<xpbd::Vec3>& lo, const std::vector<xpbd::Vec3>& hi,
+                         xpbd::Workers* workers) {
   Impl& m = *impl_;
   if (!m.built || tris != m.tris) {
     std::vector<Point> points(x.size());
@@ -88,19 +99,53 @@ void TriangleBvh::update(const std::vector<std::array<xpbd::Index, 3>>& tris, co
   }
   // The refit: each leaf's box is its triangle's, each inner node's is over
   // its two children's, last node first, so that children come before
-  // their parent.
-  for (std::size_t i = m.nodes.size(); i-- > 0;) {
-    Node& node = m.nodes[i];
-    if (node.tri >= 0) {
-      node.lo = point(lo[std::size_t(node.tri)]);
-      node.hi = point(hi[std::size_t(node.tri)]);
-    } else {
-      const Node& l = m.nodes[i + 1];
-      const Node& r = m.nodes[std::size_t(l.escape)];
-      node.lo = l.lo.cwiseMin(r.lo);
-      node.hi = l.hi.cwiseMax(r.hi);
+  // their parent. With a pool, the subtrees under the top kSplitDepth
+  // levels are refitted in parallel (each a range of nodes of its own),
+  // then the nodes above them: the same boxes.
+  std::vector<Node>& nodes = m.nodes;
+  const auto refit = [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = end; i-- > begin;) {
+      Node& node = nodes[i];
+      if (node.tri >= 0) {
+        node.lo = point(lo[std::size_t(node.tri)]);
+        node.hi = point(hi[std::size_t(node.tri)]);
+      } else {
+        const Node& l = nodes[i + 1];
+        const Node& r = nodes[std::size_t(l.escape)];
+        node.lo = l.lo.cwiseMin(r.lo);
+        node.hi = l.hi.cwiseMax(r.hi);
+      }
     }
+  };
+  if (workers == nullptr || workers->threads() < 2 || nodes.size() < kSplitFrom) {
+    refit(0, nodes.size());
+    return;
   }
+  // The top levels' inner nodes (ascending: parents before children) and
+  // the subtrees below them.
+  std::vector<int>& above = m.above;
+  std::vector<int>& roots = m.roots;
+  above.clear();
+  roots.assign(1, 0);
+  for (int depth = 0; depth < kSplitDepth; ++depth) {
+    std::vector<int> next;
+    for (const int r : roots) {
+      if (nodes[std::size_t(r)].tri >= 0) {
+        next.push_back(r);  // a leaf stays a subtree of its own
+        continue;
+      }
+      above.push_back(r);
+      next.push_back(r + 1);
+      next.push_back(nodes[std::size_t(r) + 1].escape);
+    }
+    roots.swap(next);
+  }
+  workers->run(static_cast<int>(roots.size()), [&](int k) {
+    const std::size_t r = std::size_t(roots[std::size_t(k)]);
+    refit(r, std::size_t(nodes[r].escape));
+  });
+  std::sort(above.begin(), above.end());
+  for (std::size_t k = above.size(); k-- > 0;) refit(std::size_t(above[k]), std::size_t(above[k]) + 1);
 }
 
 void TriangleBvh::query(const xpbd::Vec3& lo, const xpbd::Vec3& hi, std::vector<int>& out) const {

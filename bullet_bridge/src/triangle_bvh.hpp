@@ -19,6 +19,10 @@
 
 #include "xpbd/types.hpp"
 
+namespace xpbd {
+class Workers;
+}
+
 namespace xpbd_bullet::detail {
 
 class TriangleBvh {
@@ -30,9 +34,11 @@ class TriangleBvh {
 
   // Builds the hierarchy on the first call, or when the triangles are not
   // the ones it was built for (x: the particles); then refits it to the
-  // triangles' boxes [lo[t], hi[t]].
+  // triangles' boxes [lo[t], hi[t]]; with a pool (workers, or null), its
+  // subtrees in parallel (the same boxes).
   void update(const std::vector<std::array<xpbd::Index, 3>>& tris, const std::vector<xpbd::Vec3>& x,
-              const std::vector<xpbd::Vec3>& lo, const std::vector<xpbd::Vec3>& hi);
+              const std::vector<xpbd::Vec3>& lo, const std::vector<xpbd::Vec3>& hi,
+              xpbd::Workers* workers = nullptr);
   // Appends to out, in ascending order, the triangles whose box overlaps
   // [lo, hi].
   void query(const xpbd::Vec3& lo, const xpbd::Vec3& hi, std::vector<int>& out) const;

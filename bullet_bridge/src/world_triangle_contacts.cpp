@@ -208,7 +208,7 @@ void XpbdWorld::triangle_bounds(System& s, btScalar dt) {
   });
   if (tris.size() >= std::size_t(cs.triangle_bvh_from)) {
     if (!s.tri_bvh) s.tri_bvh = std::make_unique<detail::TriangleBvh>();
-    s.tri_bvh->update(tris, st.x, tri_lo_, tri_hi_);
+    s.tri_bvh->update(tris, st.x, tri_lo_, tri_hi_, s.settings.workers);
   }
 }
 
