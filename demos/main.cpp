@@ -89,7 +89,7 @@ struct Cli {
   bool preview = true;
   bool stages = false;  // --stages: per-stage time breakdown (xpbd/pbd runs)
   bool hash = false;    // --hash: print each run's final-state hash
-  int threads = 1;      // --threads: xpbd/pbd coloured sweep
+  int threads = 1;      // --threads: xpbd/pbd coloured sweep and contact search
 };
 
 // The scene named on the command line: a file if it names one (or ends in
@@ -396,7 +396,7 @@ int main(int argc, char** argv) {
   app.add_flag("--hash", cli.hash,
                "print a hash of each run's final state, bit for bit (particles and rigid bodies; "
                "docs/reliability.md)");
-  app.add_option("--threads", cli.threads, "threads for the coloured sweep (xpbd/pbd, needs solver.coloured)")
+  app.add_option("--threads", cli.threads, "threads for the coloured sweep and the contact search (xpbd/pbd, needs solver.coloured)")
       ->check(CLI::Range(1, 256));
   app.add_flag("--stages", cli.stages,
                "time every solver stage and print ms per frame per stage (xpbd/pbd; docs/stages.md)");

@@ -58,8 +58,9 @@ struct RunOptions {
   // scenes). Must divide substeps. Default 1: one Bullet step per frame, the
   // bridge's normal use (docs/metrics.md).
   int rigid_steps = 1;
-  // xpbd/pbd only: threads for the coloured sweep (xpbd::Workers; > 1 needs
-  // solver.coloured). The results are the same bits at every count.
+  // xpbd/pbd only: threads for the coloured sweep and the bridge's contact
+  // search (xpbd::Workers; > 1 needs solver.coloured). The results are the
+  // same bits at every count.
   int threads = 1;
   // false: RunResult::series and frame_ms stay empty and the summaries are
   // accumulated frame by frame, so memory does not grow with the frames
