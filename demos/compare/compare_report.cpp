@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iostream>
 #include <iterator>
+#include <limits>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -42,6 +43,8 @@ std::string label(const Row& r) { return std::to_string(r.substeps) + "x" + std:
 // resolution (NaN resolution: all count).
 struct Ratios {
   std::vector<double> time, error;  // bullet/xpbd, resolved points only
+  // Per entry of `time`: btSoftBody's point (its error in m, its ms).
+  std::vector<double> time_err, time_ms;
   std::string table;
 };
 Ratios bullet_vs_xpbd(const std::vector<Point>& fx, const std::vector<Point>& fb, double resolution) {
@@ -55,7 +58,11 @@ Ratios bullet_vs_xpbd(const std::vector<Point>& fx, const std::vector<Point>& fb
     const auto ex = error_at_time(fx, p.ms);
     const bool t_ok = tx && p.err >= floor;
     const bool e_ok = ex && *ex >= floor && p.err >= floor;
-    if (t_ok) q.time.push_back(p.ms / *tx);
+    if (t_ok) {
+      q.time.push_back(p.ms / *tx);
+      q.time_err.push_back(p.err);
+      q.time_ms.push_back(p.ms);
+    }
     if (e_ok) q.error.push_back(p.err / *ex);
     auto cell = [](bool have, bool ok, double v) {
       return have ? fmt(v) + (ok ? "" : " (unresolved)") : std::string("n/a");
@@ -83,6 +90,33 @@ double median(std::vector<double> v) {
 
 using RatioRow = std::tuple<std::string, std::string, Ratios, Ratios>;
 
+// Which of btSoftBody's resolved points give a time ratio below 1, and
+// where they lie on its front against the others (errors, times, ratios).
+void where_below(std::ostringstream& md, const Ratios& q) {
+  struct Range {
+    double lo = std::numeric_limits<double>::infinity(), hi = -std::numeric_limits<double>::infinity();
+    void add(double v) { lo = std::min(lo, v), hi = std::max(hi, v); }
+    std::string str() const { return lo == hi ? fmt(lo) : fmt(lo) + "-" + fmt(hi); }
+  };
+  Range err[2], ms[2], ratio[2];
+  int count[2] = {0, 0};
+  for (std::size_t i = 0; i < q.time.size(); ++i) {
+    const int above = q.time[i] >= 1 ? 1 : 0;
+    ++count[above];
+    err[above].add(q.time_err[i]);
+    ms[above].add(q.time_ms[i]);
+    ratio[above].add(q.time[i]);
+  }
+  if (count[0] == 0) return;
+  md << " The time ratio is below 1 at " << count[0] << " of btSoftBody's " << q.time.size()
+     << " resolved points: ratios " << ratio[0].str() << ", at its errors of " << err[0].str() << " m and "
+     << ms[0].str() << " ms per frame";
+  if (count[1] > 0)
+    md << "; at the other " << count[1] << " (errors " << err[1].str() << " m, " << ms[1].str() << " ms) it is "
+       << ratio[1].str();
+  md << ".";
+}
+
 // Where an XPBD variant's median ratio against btSoftBody is below 1, the
 // measured facts that bear on it, from the same sweep: how far the
 // compared errors are above the reference's resolution; for the coupled
@@ -98,7 +132,6 @@ void below_one(std::ostringstream& md, const std::vector<Row>& rows, const std::
   };
   bool any = false;
   for (const auto& [scene, variant, q, w] : ratio_rows) {
-    if (variant != "xpbd" && variant != "xpbd_coloured") continue;
     if (!(median(q.time) < 1) && !(median(q.error) < 1)) continue;
     if (!any) md << "### Where XPBD's ratio is below 1 (measured in this sweep)\n\n";
     any = true;
@@ -138,6 +171,7 @@ void below_one(std::ostringstream& md, const std::vector<Row>& rows, const std::
       md << "at a worst body error of " << fmt(body) << " m over those runs (" << fmt(own_body) << " m with "
          << (once ? "every substep" : "once per frame") << ").";
     }
+    where_below(md, q);
     if (variant == "xpbd_coloured") {
       std::vector<double> e;
       for (const Row& a : rows)
