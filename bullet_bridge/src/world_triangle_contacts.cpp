@@ -187,23 +187,29 @@ void XpbdWorld::triangle_bounds(System& s, btScalar dt) {
   const xpbd::State& st = s.state;
   const ContactSettings& cs = s.settings.contacts;
   const auto& tris = m.collision_triangles;
-  // Each triangle's bounds over the step, grown by the thickness and margin
-  // (in pieces on the system's pool, if it has one).
+  // Each particle's box over the step, then each triangle's bounds over
+  // them, grown by the thickness and margin (in pieces on the system's
+  // pool, if it has one; min and max are exact, so the boxes are those of
+  // the triangles' own particles in any order).
+  const std::size_t np = st.x.size();
+  sweep_lo_.resize(np);
+  sweep_hi_.resize(np);
+  detail::for_each_chunk(s.settings.workers, np, 4096, [&](std::size_t begin, std::size_t end, std::size_t) {
+    for (std::size_t p = begin; p < end; ++p) {
+      const Vec3 e = st.x[p] + dt * st.v[p];
+      sweep_lo_[p] = st.x[p].cwiseMin(e);
+      sweep_hi_[p] = st.x[p].cwiseMax(e);
+    }
+  });
   tri_lo_.resize(tris.size());
   tri_hi_.resize(tris.size());
   detail::for_each_chunk(s.settings.workers, tris.size(), 2048, [&](std::size_t begin, std::size_t end, std::size_t) {
     for (std::size_t t = begin; t < end; ++t) {
-      Vec3 a = Vec3::Constant(std::numeric_limits<Real>::max()), b = -a;
-      Real r = 0;
-      for (Index p : tris[t]) {
-        const Vec3 e = st.x[p] + dt * st.v[p];
-        a = a.cwiseMin(st.x[p]).cwiseMin(e);
-        b = b.cwiseMax(st.x[p]).cwiseMax(e);
-        r = std::max(r, m.radius[p]);
-      }
+      const auto [p0, p1, p2] = tris[t];
+      const Real r = std::max({m.radius[p0], m.radius[p1], m.radius[p2], Real(0)});
       const Real grow = r + cs.thickness + cs.margin;
-      tri_lo_[t] = a.array() - grow;
-      tri_hi_[t] = b.array() + grow;
+      tri_lo_[t] = sweep_lo_[std::size_t(p0)].cwiseMin(sweep_lo_[std::size_t(p1)]).cwiseMin(sweep_lo_[std::size_t(p2)]).array() - grow;
+      tri_hi_[t] = sweep_hi_[std::size_t(p0)].cwiseMax(sweep_hi_[std::size_t(p1)]).cwiseMax(sweep_hi_[std::size_t(p2)]).array() + grow;
     }
   });
   if (tris.size() >= std::size_t(cs.triangle_bvh_from)) {

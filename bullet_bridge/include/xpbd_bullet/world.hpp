@@ -452,6 +452,7 @@ class XpbdWorld : public btActionInterface {
   std::vector<Shadow> shadows_;  // bodies touched in the current internal step
   std::vector<xpbd::Vec3> features_;  // scratch: feature points of one body (body frame)
   std::vector<xpbd::Vec3> tri_lo_, tri_hi_;  // scratch: swept triangle bounds
+  std::vector<xpbd::Vec3> sweep_lo_, sweep_hi_;  // scratch: each particle's box over the step
   std::vector<btPersistentManifold*> spacers_;  // this step's spacer manifolds (world_spacers.cpp)
   std::vector<std::pair<xpbd::Index, std::size_t>> spacer_order_;  // scratch: (particle, contact)
   std::vector<char> settle_moved_, settle_next_;  // scratch: particles moved in a settle round
