@@ -480,6 +480,9 @@ Model compile(const SceneDesc& s) {
     for (std::size_t j = 0; j < m.distance_colours.order.size(); ++j)
       slot[static_cast<std::size_t>(m.distance_colours.order[j])] = static_cast<Index>(j);
     for (Index k : m.chains.element) m.chains.stream_slot.push_back(slot[static_cast<std::size_t>(k)]);
+    m.trees = find_trees(m.get<Distance>(), m.inv_mass);
+    for (std::size_t j = 0; j < m.trees.index.size(); ++j)
+      m.trees.stream_slot.push_back(m.trees.element[j] ? slot[static_cast<std::size_t>(m.trees.index[j])] : -1);
   }
   return m;
 }

@@ -13,6 +13,7 @@
 #include "xpbd/spatial_hash.hpp"
 #include "xpbd/special_constraints.hpp"
 #include "chains_solve.hpp"
+#include "trees_solve.hpp"
 #include "hierarchy.hpp"
 #include "stream.hpp"
 
@@ -313,6 +314,13 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
         throw ConfigError("StepConfig.direct_chains: model.chains was found in " +
                           std::to_string(m.chains.num_distance) + " Distance elements, the model has " +
                           std::to_string(m.get<Distance>().size()) + " (or the particles changed; use compile)");
+      if (m.trees.num_distance != m.get<Distance>().size() ||
+          m.trees.num_particles != static_cast<std::size_t>(m.num_particles()))
+        throw ConfigError("StepConfig.direct_chains: model.trees was found in " +
+                          std::to_string(m.trees.num_distance) + " Distance elements and " +
+                          std::to_string(m.trees.num_particles) + " particles, the model has " +
+                          std::to_string(m.get<Distance>().size()) + " and " +
+                          std::to_string(m.num_particles()) + " (use compile)");
       detail::chains_begin_step(m, s);
     }
   });
@@ -343,6 +351,7 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
   const bool tethers = cfg.coloured && cfg.method == Method::xpbd && !m.get<Tether>().empty();
   if (tethers) timed(t, stage::step_setup, true, [&] { detail::tether_begin_step(m, s, h, cfg.workers); });
   const bool chains = cfg.direct_chains && m.chains.size() > 0;
+  const bool trees = cfg.direct_chains && m.trees.size() > 0;
   std::uint64_t sweeps = 0;  // in this step
   for (int sub = 0; sub < cfg.substeps; ++sub) {
     timed(t, stage::predict, true, [&] {
@@ -390,6 +399,7 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
       ++sweeps;
       solve_constraints(m, s, sc, cfg, it == 0, t);
       if (chains) timed(t, stage::of<Distance>, true, [&] { detail::chains_solve(m, s, h, stream, cfg.chain_passes, cfg.chain_tolerance); });
+      if (trees) timed(t, stage::of<Distance>, true, [&] { detail::trees_solve(m, s, h, stream, cfg.chain_passes, cfg.chain_tolerance); });
       timed(t, stage::self_collision_solve, !s.self_collision.pairs.empty(),
             [&] { solve_self_collisions(m, s, sc); });
       timed(t, stage::body_attachments, !s.attachments.empty(),

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "xpbd/chains.hpp"
+#include "xpbd/trees.hpp"
 #include "xpbd/constraint_types.hpp"
 #include "xpbd/dihedral_stream.hpp"
 #include "xpbd/distance_stream.hpp"
@@ -75,8 +76,10 @@ struct Model {
   // schedule holds for the inverse masses compile() set.
   ColourSchedule tether_colours;
   DistanceStream tether_stream;
-  // The Distance elements' chains (chains.hpp), for StepConfig::direct_chains.
+  // The Distance elements' chains (chains.hpp) and trees (trees.hpp), for
+  // StepConfig::direct_chains.
   Chains chains;
+  Trees trees;
 
   // Opt-in particle-particle collision (spatial_hash.hpp); empty when off.
   SelfCollisionModel self_collision;

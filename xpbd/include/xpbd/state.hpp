@@ -7,6 +7,7 @@
 
 #include "xpbd/aligned.hpp"
 #include "xpbd/chains.hpp"
+#include "xpbd/trees.hpp"
 #include "xpbd/constraint_types.hpp"
 #include "xpbd/rigid.hpp"
 #include "xpbd/spatial_hash.hpp"
@@ -103,8 +104,10 @@ struct State {
   // reads the records above): the multipliers in stream order and the
   // per-element factors constant over a step.
   std::vector<Real> tether_lambda, tether_at, tether_inv_den, tether_gamma;
-  // The direct chain solve's scratch (StepConfig::direct_chains, chains.hpp).
+  // The direct chain and tree solves' scratch (StepConfig::direct_chains,
+  // chains.hpp, trees.hpp).
   ChainScratch chain;
+  TreeScratch tree;
   // StepConfig::hierarchy: the coarse levels of the model's Distance graph
   // (internal; built by the first step that uses them, immutable, shared
   // by copies of the state; rebuilt when the model's particle or Distance

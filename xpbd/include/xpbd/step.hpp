@@ -49,6 +49,8 @@ struct StepConfig {
   // left 0.8 % (docs/convergence.md). A chain's elements are still swept
   // too. A chain whose system is singular (a taut straight chain between
   // two kinematic ends at compliance 0) is left to the sweep in that pass.
+  // Then each tree of Model::trees (trees.hpp: branched, without loops) is
+  // solved the same way, over the particles' moves and the multipliers.
   bool direct_chains = false;
   int chain_passes = 16;               // >= 1
   Real chain_tolerance = Real(1e-3);   // >= 0, relative to rest length
