@@ -75,6 +75,20 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
               r.spacing = Real(0.1);
               r.pin_first = in.ConsumeBool();
               xpbd::add_rope(scene, r);
+              // Branches off the rope: a tree (direct_chains' tree solve).
+              const int branches = in.ConsumeIntegralInRange<int>(0, 3);
+              for (int b = 0; b < branches; ++b) {
+                xpbd::Index from = in.ConsumeIntegralInRange<xpbd::Index>(0, xpbd::Index(r.n - 1));
+                const int links = in.ConsumeIntegralInRange<int>(1, 3);
+                for (int k = 0; k < links; ++k) {
+                  const Vec3 at = scene.positions[std::size_t(from)] + vec(in, -0.1f, 0.1f);
+                  const xpbd::Index p = scene.add_particle(at, Real(0.05));
+                  xpbd::DistanceDesc d{from, p, Real(0.1), {}};
+                  d.mat.compliance = value(in, 0, 1e-4f);
+                  scene.distances.push_back(d);
+                  from = p;
+                }
+              }
             } else {
               xpbd::ClothGridDesc c;
               c.nx = in.ConsumeIntegralInRange<int>(2, 6);
