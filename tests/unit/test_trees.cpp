@@ -207,5 +207,125 @@ TEST(DirectTrees, RigidBroomKeepsItsLengths) {
   EXPECT_LT(direct.worst_stretch, sizeof(Real) == 8 ? Real(1e-9) : Real(1e-5));
 }
 
+// Trees whose elements point every way (a trunk from a pin with three arms
+// of different lengths and directions and 0.5 kg tips; a "V" from two
+// pins whose junction, with two elements to pins, takes the saddle-point
+// block, and carries an arm), or a free one spinning without gravity.
+struct Trees3D {
+  xpbd::SceneDesc scene;
+  Index particle(const Vec3& x, Real m) { return scene.add_particle(x, m); }
+  void link(Index a, Index b) {
+    xpbd::DistanceDesc d{a, b, (scene.positions[std::size_t(a)] - scene.positions[std::size_t(b)]).norm(), {}};
+    d.mat.compliance = Real(1e-6);
+    scene.distances.push_back(d);
+  }
+  // Three arms from `junction`, the a-th of a + 1 links.
+  void arms(Index junction) {
+    const Vec3 dirs[3] = {Vec3(1, 0, 0), Vec3(0, Real(-0.3), 1), Vec3(Real(0.2), Real(0.5), Real(-1))};
+    for (int a = 0; a < 3; ++a) {
+      Index prev = junction;
+      for (int k = 1; k <= a + 1; ++k) {
+        const Index p = particle(scene.positions[std::size_t(prev)] + Real(0.1) * dirs[a].normalized(),
+                                 k == a + 1 ? Real(0.5) : Real(0.05));
+        link(prev, p);
+        prev = p;
+      }
+    }
+  }
+};
+
+// The largest |C + alpha/h^2 lambda| over rest length of the Distance
+// elements after a step (the last substep's multipliers, array order).
+Real worst_residual(const xpbd::Model& m, const xpbd::State& s, Real h) {
+  Real worst = 0;
+  const auto& el = m.get<xpbd::Distance>();
+  for (std::size_t k = 0; k < el.size(); ++k) {
+    const Real len = (s.x[std::size_t(el[k].p[0])] - s.x[std::size_t(el[k].p[1])]).norm();
+    const Real r = len - el[k].rest + el[k].mat.compliance / (h * h) * s.lambdas<xpbd::Distance>()[k];
+    worst = std::max(worst, std::abs(r) / el[k].rest);
+  }
+  return worst;
+}
+
+// Every element of both trees ends each step with its constraint solved,
+// C + alpha/h^2 lambda = 0, to round-off, while they swing: Newton's
+// passes converge only if the elimination's couplings and signs are right,
+// whatever the directions. One sweep per substep leaves them far from it.
+TEST(DirectTrees, SwingingTreesEndEveryStepSolved) {
+  Trees3D t;
+  const Index pin = t.particle(Vec3(0, 1, 0), 0);
+  const Index t1 = t.particle(Vec3(Real(0.1), 1, 0), Real(0.05));
+  const Index junction = t.particle(Vec3(Real(0.2), Real(0.95), 0), Real(0.05));
+  t.link(pin, t1);
+  t.link(t1, junction);
+  t.arms(junction);
+  const Index left = t.particle(Vec3(-1, 1, 0), 0), right = t.particle(Vec3(Real(-0.6), 1, 0), 0);
+  const Index v = t.particle(Vec3(Real(-0.8), Real(0.9), 0), Real(0.2));
+  t.link(left, v);
+  t.link(right, v);
+  const Index v1 = t.particle(Vec3(Real(-0.8), Real(0.9), Real(0.15)), Real(0.05));
+  const Index v2 = t.particle(Vec3(Real(-0.8), Real(0.85), Real(0.3)), Real(0.5));
+  t.link(v, v1);
+  t.link(v1, v2);
+  t.link(v, t.particle(Vec3(Real(-0.7), Real(0.8), 0), Real(0.1)));
+  const xpbd::Model m = xpbd::compile(t.scene);
+  ASSERT_EQ(m.trees.size(), 2);
+  xpbd::State direct = xpbd::make_state(m), swept = xpbd::make_state(m);
+  xpbd::StepConfig cfg;
+  cfg.substeps = 10;
+  cfg.chain_tolerance = 0;
+  const Real h = cfg.dt / Real(cfg.substeps);
+  Real worst_direct = 0, worst_swept = 0;
+  for (int k = 0; k < 30; ++k) {
+    cfg.direct_chains = true;
+    xpbd::step(m, direct, cfg);
+    cfg.direct_chains = false;
+    xpbd::step(m, swept, cfg);
+    worst_direct = std::max(worst_direct, worst_residual(m, direct, h));
+    worst_swept = std::max(worst_swept, worst_residual(m, swept, h));
+  }
+  std::printf("largest residual over rest length after a step: %.3g (direct), %.3g (sweep)\n",
+              double(worst_direct), double(worst_swept));
+  EXPECT_GT((direct.x.back() - m.x0.back()).norm(), Real(0.05));  // it swung
+  EXPECT_GT(worst_swept, Real(1e-3));
+  EXPECT_LT(worst_direct, sizeof(Real) == 8 ? Real(1e-9) : Real(1e-3));
+}
+
+// A free tree spinning without gravity: every correction of the solve is
+// W J^T dlambda, equal and opposite along each element, so the linear
+// momentum stays what it was, to round-off. (Not the angular momentum of
+// the velocities (x - x_prev) / h: a correction along the element at the
+// current positions turns it by (dlambda / h) n x (x_prev,a - x_prev,b),
+// in the sweep too.)
+TEST(DirectTrees, FreeSpinningTreeKeepsItsLinearMomentum) {
+  Trees3D t;
+  const Index junction = t.particle(Vec3(0, 1, 0), Real(0.3));
+  const Index up = t.particle(Vec3(0, Real(1.1), 0), Real(0.1));
+  t.link(junction, up);
+  t.arms(junction);
+  for (std::size_t i = 0; i < t.scene.positions.size(); ++i)
+    t.scene.velocities.push_back(Vec3(0, 0, 3).cross(t.scene.positions[i] - Vec3(0, 1, 0)) + Vec3(Real(0.1) * Real(i), 0, 0));
+  const xpbd::Model m = xpbd::compile(t.scene);
+  ASSERT_EQ(m.trees.size(), 1);
+  xpbd::State s = xpbd::make_state(m);
+  auto momentum = [&] {
+    Vec3 p = Vec3::Zero();
+    for (std::size_t i = 0; i < s.x.size(); ++i) p += s.v[i] / m.inv_mass[i];
+    return p;
+  };
+  const Vec3 p0 = momentum();
+  xpbd::StepConfig cfg;
+  cfg.gravity = Vec3::Zero();
+  cfg.direct_chains = true;
+  cfg.chain_tolerance = 0;
+  for (int k = 0; k < 30; ++k) xpbd::step(m, s, cfg);
+  const Vec3 p1 = momentum();
+  const Real h = cfg.dt / Real(cfg.substeps);
+  std::printf("momentum change %.3g kg m/s (of %.3g); residual %.3g\n", double((p1 - p0).norm()), double(p0.norm()),
+              double(worst_residual(m, s, h)));
+  EXPECT_LT((p1 - p0).norm(), (sizeof(Real) == 8 ? Real(1e-10) : Real(1e-3)) * (Real(1) + p0.norm()));
+  EXPECT_LT(worst_residual(m, s, h), sizeof(Real) == 8 ? Real(1e-9) : Real(1e-3));
+}
+
 }  // namespace XPBD_TEST_FILE_ID
 }  // namespace
