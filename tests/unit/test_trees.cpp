@@ -323,7 +323,9 @@ TEST(DirectTrees, FreeSpinningTreeKeepsItsLinearMomentum) {
   const Real h = cfg.dt / Real(cfg.substeps);
   std::printf("momentum change %.3g kg m/s (of %.3g); residual %.3g\n", double((p1 - p0).norm()), double(p0.norm()),
               double(worst_residual(m, s, h)));
-  EXPECT_LT((p1 - p0).norm(), (sizeof(Real) == 8 ? Real(1e-10) : Real(1e-3)) * (Real(1) + p0.norm()));
+  // Float: each velocity (x - x_prev) / h carries about eps |x| / (|v| h),
+  // 4e-5 of it here, in each of the 300 substeps (measured: 1.6e-3).
+  EXPECT_LT((p1 - p0).norm(), (sizeof(Real) == 8 ? Real(1e-10) : Real(1e-2)) * (Real(1) + p0.norm()));
   EXPECT_LT(worst_residual(m, s, h), sizeof(Real) == 8 ? Real(1e-9) : Real(1e-3));
 }
 
