@@ -1,7 +1,9 @@
 // Fuzz target: the embedding API driven by a byte stream. Each operation
 // takes a byte for its kind and then its arguments: add or remove a system
-// (a small rope or cloth, perhaps with collision triangles), add or remove and delete a rigid body, attach or
-// detach, change settings, write a particle or a body state (NaN and huge
+// (a small rope, perhaps branched, or cloth, perhaps with collision
+// triangles), add or remove and delete a rigid body, attach or detach,
+// change settings (a pool of two threads among them), write a particle or
+// a body state (NaN and huge
 // values included), and step Bullet with any dt. The API may refuse an
 // argument by throwing (ConfigError, out_of_range: caught here); nothing
 // may be thrown out of stepSimulation, and a crash, a sanitizer report, a
@@ -20,6 +22,7 @@
 #include "xpbd/builders.hpp"
 #include "xpbd/compile.hpp"
 #include "xpbd/state.hpp"
+#include "xpbd/workers.hpp"
 #include "xpbd_bullet/world.hpp"
 
 namespace {
@@ -51,6 +54,8 @@ struct Body {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  // One pool for every input (its helper threads are made once).
+  static xpbd::Workers pool(2);
   FuzzedDataProvider in(data, size);
   btDefaultCollisionConfiguration config;
   btCollisionDispatcher dispatcher(&config);
@@ -164,6 +169,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
               set.chain_passes = in.ConsumeIntegralInRange<int>(0, 20);
               set.chain_tolerance = value(in, 0, 0.01f);
               set.coloured = in.ConsumeBool();
+              // Two threads for the coloured sweep and the contact search.
+              set.workers = set.coloured && in.ConsumeBool() ? &pool : nullptr;
               set.alternate_sweeps = in.ConsumeBool();
               set.hierarchy = in.ConsumeBool();
               set.hierarchy_slack = value(in, 0, 0.05f);
