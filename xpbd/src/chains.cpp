@@ -298,14 +298,7 @@ void chains_solve(const Model& m, State& s, Real h, bool stream, int passes, Rea
   const Real inv_h2 = Real(1) / (h * h);
   for (Index c = 0; c < m.chains.size(); ++c) {
     ChainSystem sys(m, s, c, stream, inv_h2);
-    for (int pass = 0; pass < passes; ++pass) {
-      // Every row's residual within tol of its rest length: done.
-      if (!(sys.assemble() > tol)) break;
-      // Singular: left to the sweep in this pass (and the next ones, which
-      // would meet the same system).
-      if (!sys.solve()) break;
-      sys.apply();
-    }
+    newton_passes(sys, passes, tol);
   }
 }
 

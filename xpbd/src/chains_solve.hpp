@@ -15,4 +15,19 @@ void chains_begin_step(const Model& m, State& s);
 // coloured XPBD sweep), else in State::lambda.
 void chains_solve(const Model& m, State& s, Real h, bool stream, int passes, Real tol);
 
+// The Newton passes of one chain's or tree's system (chains.cpp,
+// trees.cpp): assemble() returns the largest residual over rest length,
+// solve() false for a singular system, apply() moves the particles.
+template <class System>
+void newton_passes(System& sys, int passes, Real tol) {
+  for (int pass = 0; pass < passes; ++pass) {
+    // Every row's residual within tol of its rest length: done.
+    if (!(sys.assemble() > tol)) break;
+    // Singular: left to the sweep in this pass (and the next ones, which
+    // would meet the same system).
+    if (!sys.solve()) break;
+    sys.apply();
+  }
+}
+
 }  // namespace xpbd::detail

@@ -9,6 +9,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 
+#include "chains_solve.hpp"
 #include "trees_solve.hpp"
 #include "xpbd/constraints.hpp"
 #include "xpbd/model.hpp"
@@ -323,14 +324,7 @@ void trees_solve(const Model& m, State& s, Real h, bool stream, int passes, Real
   const Real inv_h2 = Real(1) / (h * h);
   for (Index t = 0; t < m.trees.size(); ++t) {
     TreeSystem sys(m, s, t, stream, inv_h2);
-    for (int pass = 0; pass < passes; ++pass) {
-      // Every element's residual within tol of its rest length: done.
-      if (!(sys.assemble() > tol)) break;
-      // Singular: left to the sweep in this pass (and the next ones, which
-      // would meet the same system).
-      if (!sys.solve()) break;
-      sys.apply();
-    }
+    newton_passes(sys, passes, tol);
   }
 }
 
