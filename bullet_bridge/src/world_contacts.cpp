@@ -304,7 +304,8 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
     // has one, then joined in candidate order: the particle contacts first,
     // then the feature-triangle ones, each candidate's body indexed at its
     // first contact. The contacts, their order and the bodies' indices are
-    // those of one thread whatever the pool (WorldThreads tests).
+    // those of one thread whatever the pool
+    // (WorldCulling.ThreadsGiveTheSameContactsBitForBit).
     const bool triangles = !m.collision_triangles.empty();
     if (triangles && std::any_of(sc.candidates.begin(), sc.candidates.end(), [](const detail::Candidate& c) {
           return detail::may_have_features(*c.obj);
@@ -312,7 +313,8 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
       triangle_bounds(s, dt);
     const std::size_t nc = sc.candidates.size();
     if (s.found.size() < nc) s.found.resize(nc);
-    const int slots = set.workers ? static_cast<int>(std::min<std::size_t>(std::size_t(set.workers->threads()), nc)) : 1;
+    const int slots =
+        set.workers ? static_cast<int>(std::min<std::size_t>(std::size_t(set.workers->threads()), nc)) : 1;
     if (s.feature_scratch.size() < std::size_t(slots)) s.feature_scratch.resize(std::size_t(slots));
     detail::for_each_candidate(set.workers, nc, slots, [&](std::size_t k, int slot) {
       CandidateContacts& out = s.found[k];
