@@ -465,6 +465,48 @@ SceneSpec heavy_rope() {
   return s;
 }
 
+SceneSpec branched_rope() {
+  // A stiff branched rope: a 0.4 m trunk of 1 cm links from a pin, and at
+  // its end three 0.4 m branches, 30 degrees apart, each ending in a 50 g
+  // weight; 1 g particles, 1e-9 m/N, released horizontal. Three or more
+  // elements meet at the junction, so it is a tree, and direct_chains
+  // solves it as one (docs/convergence.md, "Direct solve over trees").
+  SceneSpec s;
+  s.name = "branched_rope";
+  s.description = "stiff rope branching into three 50 g weights, 1 g particles, pinned, direct solve over the tree, tolerance 5 % strain";
+  xpbd::SceneDesc& d = s.soft.particles;
+  const Real link = Real(0.01), m = Real(0.001);
+  const int links = 40;
+  auto add_link = [&](xpbd::Index a, xpbd::Index b) {
+    xpbd::DistanceDesc e{a, b, link, {}};
+    e.mat.compliance = Real(1e-9);
+    d.distances.push_back(e);
+  };
+  xpbd::Index prev = d.add_particle(Vec3(0, Real(2.5), 0), 0);  // the pin
+  for (int k = 1; k <= links; ++k) {
+    const xpbd::Index p = d.add_particle(Vec3(link * Real(k), Real(2.5), 0), m);
+    add_link(prev, p);
+    prev = p;
+  }
+  const xpbd::Index junction = prev;
+  for (int b = -1; b <= 1; ++b) {
+    const Real angle = Real(b) * Real(0.5235987755982988);  // 30 degrees
+    const Vec3 dir(std::cos(angle), 0, std::sin(angle));
+    xpbd::Index q = junction;
+    for (int k = 1; k <= links; ++k) {
+      const xpbd::Index p = d.add_particle(d.positions[std::size_t(junction)] + link * Real(k) * dir, k == links ? Real(0.05) : m);
+      add_link(q, p);
+      q = p;
+    }
+  }
+  s.solver.direct_chains = true;
+  s.solver.substeps = 4;
+  s.solver.tolerance = 0.05;
+  s.solver.max_substeps = 400;
+  s.solver.frames = 180;
+  return s;
+}
+
 SceneSpec heavy_box_on_cloth() {
   // A light cloth pressed between a heavy body and the ground: 24 x 24,
   // 1 m, 0.4 kg, lying flat on a static plane at the contact thickness,
@@ -528,6 +570,7 @@ std::vector<SceneSpec> make_all() {
   v.push_back(stiff_light_cloth());
   v.push_back(large_cloth());
   v.push_back(heavy_rope());
+  v.push_back(branched_rope());
   v.push_back(heavy_box_on_cloth());
   return v;
 }

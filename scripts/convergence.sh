@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Error against time for the convergence methods on the stiff scenes
 # (issue 15, item 2): every built-in scene that sets solver.tolerance
-# (stiff_light_cloth, large_cloth, heavy_rope) run with XPBD, without its
+# (stiff_light_cloth, large_cloth, heavy_rope, branched_rope) run with XPBD, without its
 # tolerance, at a ladder of budgets per method:
 #   substeps     n x 1, n = 10, 20, 40, 80, 160 (the library's default kind)
 #   iterations   10 x k, k = 2, 4, 8, 16 (more sweeps per substep)
@@ -9,8 +9,9 @@
 #                nearest_pinned); cloths only: the rope generator has none
 #   alternate    n x 1 with alternate_sweeps (forward and backward sweeps)
 #   direct       n x 1, n = 5, 10, 20, 40, with the direct solve along chains
-#                (solver.direct_chains); ropes only: a cloth's only chains
-#                are its corners
+#                and over trees (solver.direct_chains); ropes, and scenes
+#                that set it (branched_rope): a cloth's only chains are its
+#                corners, and it has no tree
 #   hierarchy    n x 1 with hierarchical PBD's coarse levels
 #                (solver.hierarchy, slack 0.01)
 # and once with its tolerance (the substeps chosen frame by frame). Each
@@ -58,6 +59,7 @@ echo "scene,method,budget,ms_per_frame,max_strain,status" > "$csv"
 for scene in "${scenes[@]}"; do
   cloth=$("$demo" --dump "$scene" | grep -c '"cloth"' || true)
   rope=$("$demo" --dump "$scene" | grep -c '"rope"' || true)
+  direct=$("$demo" --dump "$scene" | grep -c '"direct_chains": true' || true)
   # Every method alone: the scene's own tolerance and direct solve off.
   off=(--set solver.tolerance=0 --set solver.direct_chains=false)
   for n in 10 20 40 80 160; do
@@ -73,7 +75,7 @@ for scene in "${scenes[@]}"; do
     read -r ms strain status < <(run "$scene" "${off[@]}" --substeps "$n" --iterations 1 --set solver.hierarchy=true)
     echo "$scene,hierarchy,${n}x1,$ms,$strain,$status" >> "$csv"
   done
-  if [ "$rope" -gt 0 ]; then
+  if [ "$rope" -gt 0 ] || [ "$direct" -gt 0 ]; then
     for n in 5 10 20 40; do
       read -r ms strain status < <(run "$scene" "${off[@]}" --substeps "$n" --iterations 1 --set solver.direct_chains=true)
       echo "$scene,direct,${n}x1,$ms,$strain,$status" >> "$csv"
