@@ -403,7 +403,7 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
     double e = 0;
     if (tol.strain > 0) e = double(xpbd::distance_strain(m, st).max) / tol.strain;
     if (tol.penetration > 0) {
-      depth = double(xpbd::rigid::deepest_contact_violation(st));
+      depth = double(xpbd::rigid::deepest_contact_violation(st, dt / Real(subs)));
       e = std::max(e, depth / tol.penetration);
     }
     return e;

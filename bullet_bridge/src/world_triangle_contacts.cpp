@@ -359,6 +359,10 @@ void XpbdWorld::triangle_contacts_of(const System& s, std::size_t k, btScalar dt
     c.tri = tri;
     c.side = side;
     c.thickness = thick;
+    // Acts within the margin behind the plane, plus a substep's closing in
+    // (the relative travel the feature was found with, over the step).
+    c.reach = cs.margin;
+    c.closing_speed = move / dt;
     // Combined with the body's friction by product, as particle contacts.
     c.static_friction = cs.static_friction * obj->getFriction();
     c.dynamic_friction = cs.dynamic_friction * obj->getFriction();

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "xpbd/rigid_solve.hpp"
 #include "xpbd/xpbd.hpp"
@@ -209,7 +211,8 @@ TEST(RigidSolve, ContactViolationsAreTheDepthsInsideTheBand) {
   scene.add_particle(Vec3(0, 1, 1), Real(1));
   const xpbd::Model m = xpbd::compile(scene);
   xpbd::State s = xpbd::make_state(m);
-  EXPECT_EQ(xpbd::rigid::deepest_contact_violation(s), Real(0));  // no contacts
+  const Real h = Real(1) / 600;  // the substep (a triangle contact's reach grows with it)
+  EXPECT_EQ(xpbd::rigid::deepest_contact_violation(s, h), Real(0));  // no contacts
 
   xpbd::BodyContact ground;  // the world plane y = 0, normal +y
   ground.particle = 0;
@@ -239,14 +242,78 @@ TEST(RigidSolve, ContactViolationsAreTheDepthsInsideTheBand) {
   s.triangle_contacts.push_back(tri);
 
   const double tol = 1e3 * std::numeric_limits<Real>::epsilon();
-  EXPECT_NEAR(double(xpbd::rigid::deepest_contact_violation(s)), 0.004, tol);
-  EXPECT_NEAR(double(xpbd::rigid::worst_contact_violation(m, s)), 0.004 / 0.005, 2 * tol / 0.005);
+  EXPECT_NEAR(double(xpbd::rigid::deepest_contact_violation(s, h)), 0.004, tol);
+  EXPECT_NEAR(double(xpbd::rigid::worst_contact_violation(m, s, h)), 0.004 / 0.005, 2 * tol / 0.005);
+  // The feature 3 cm behind the plane: 3.5 cm inside the band, within a
+  // reach of 1 cm plus 18 m/s over the substep (4 cm), not within 1 cm
+  // plus 6 m/s (2 cm), where the solve leaves the contact alone.
+  s.triangle_contacts[0].r.y() = Real(0.97);
+  s.triangle_contacts[0].reach = Real(0.01);
+  s.triangle_contacts[0].closing_speed = 18;
+  EXPECT_NEAR(double(xpbd::rigid::deepest_contact_violation(s, h)), 0.035, tol);
+  EXPECT_NEAR(double(xpbd::rigid::worst_contact_violation(m, s, h)), 0.035 / 0.005, 2 * tol / 0.005);
+  s.triangle_contacts[0].closing_speed = 6;  // beyond its reach: the ground's 3 mm is the deepest
+  EXPECT_NEAR(double(xpbd::rigid::deepest_contact_violation(s, h)), 0.003, tol);
+  EXPECT_NEAR(double(xpbd::rigid::worst_contact_violation(m, s, h)), 0.003 / 0.005, 2 * tol / 0.005);
   s.triangle_contacts.clear();
-  EXPECT_NEAR(double(xpbd::rigid::deepest_contact_violation(s)), 0.003, tol);
-  EXPECT_NEAR(double(xpbd::rigid::worst_contact_violation(m, s)), 0.003 / 0.005, 2 * tol / 0.005);
+  EXPECT_NEAR(double(xpbd::rigid::deepest_contact_violation(s, h)), 0.003, tol);
+  EXPECT_NEAR(double(xpbd::rigid::worst_contact_violation(m, s, h)), 0.003 / 0.005, 2 * tol / 0.005);
   s.x[0].y() = Real(0.01);  // out of its band: nothing inside any more
-  EXPECT_EQ(xpbd::rigid::deepest_contact_violation(s), Real(0));
-  EXPECT_EQ(xpbd::rigid::worst_contact_violation(m, s), Real(0));
+  EXPECT_EQ(xpbd::rigid::deepest_contact_violation(s, h), Real(0));
+  EXPECT_EQ(xpbd::rigid::worst_contact_violation(m, s, h), Real(0));
+}
+
+// A rigid feature 3 cm behind a cloth triangle's plane (5 mm thickness),
+// over the triangle at barycentric weights (0.6, 0.2, 0.2), particles of
+// 1 kg, a static world point: within its reach the solve moves the
+// triangle by C / sum w_i^2 along the normal, weighted w_i, so that the
+// plane under the feature ends the thickness away (particle 2 moves by
+// 0.6 * 0.035 / 0.44); beyond it (a reach of 1 cm plus 6 m/s over the
+// 1/600 s substep, 2 cm) the triangle is left where it is.
+TEST(RigidSolve, TriangleContactActsWithinItsReachOnly) {
+  xpbd::SceneDesc scene;
+  scene.add_particle(Vec3(0, 1, 0), Real(1));
+  scene.add_particle(Vec3(0, 1, 1), Real(1));
+  scene.add_particle(Vec3(1, 1, 0), Real(1));
+  const xpbd::Model m = xpbd::compile(scene);
+  const Real h = Real(1) / 600;
+  const auto solve = [&](Real reach, Real closing_speed) {
+    xpbd::State s = xpbd::make_state(m);
+    xpbd::BodyTriangleContact c;
+    c.tri = {0, 1, 2};  // (x1 - x0) x (x2 - x0) = (0, 0, 1) x (1, 0, 0) = +y
+    c.body = -1;
+    c.r = Vec3(0.2, 0.97, 0.2);
+    c.side = 1;
+    c.thickness = Real(0.005);
+    c.reach = reach;
+    c.closing_speed = closing_speed;
+    s.triangle_contacts.push_back(c);
+    xpbd::rigid::begin_step(m, s);
+    xpbd::rigid::solve_triangle_contacts(m, s, h);
+    return s.x;
+  };
+  const double tol = 1e3 * std::numeric_limits<Real>::epsilon();
+  for (const auto& [reach, speed] : {std::pair{std::numeric_limits<Real>::infinity(), Real(0)},
+                                     std::pair{Real(0.01), Real(18)}}) {
+    const std::vector<Vec3> x = solve(reach, speed);
+    const double w[3] = {0.6, 0.2, 0.2};
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_NEAR(double(x[std::size_t(i)].y()), 1 - w[i] * 0.035 / 0.44, tol) << "particle " << i;
+      EXPECT_EQ(x[std::size_t(i)].x(), m.x0[std::size_t(i)].x());
+    }
+  }
+  EXPECT_EQ(solve(Real(0.01), Real(6)), m.x0);
+  // A reach or closing speed that is not a length or speed is named.
+  for (const auto& [reach, speed] : {std::pair{std::numeric_limits<Real>::quiet_NaN(), Real(0)},
+                                     std::pair{Real(-1), Real(0)}, std::pair{Real(0), Real(-1)},
+                                     std::pair{Real(0), std::numeric_limits<Real>::infinity()}}) {
+    try {
+      solve(reach, speed);
+      ADD_FAILURE() << "reach " << reach << ", closing_speed " << speed << " accepted";
+    } catch (const xpbd::ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("triangle_contacts[0]"), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace

@@ -66,9 +66,14 @@ void begin_step(const Model& m, State& s) {
     check_index(m, s, "contacts", k, s.contacts[k].particle, s.contacts[k].body);
   for (std::size_t k = 0; k < s.attachments.size(); ++k)
     check_index(m, s, "attachments", k, s.attachments[k].particle, s.attachments[k].body);
-  for (std::size_t k = 0; k < s.triangle_contacts.size(); ++k)
-    for (Index p : s.triangle_contacts[k].tri)
-      check_index(m, s, "triangle_contacts", k, p, s.triangle_contacts[k].body);
+  for (std::size_t k = 0; k < s.triangle_contacts.size(); ++k) {
+    const BodyTriangleContact& c = s.triangle_contacts[k];
+    for (Index p : c.tri) check_index(m, s, "triangle_contacts", k, p, c.body);
+    if (!(c.reach >= Real(0)) || !(c.closing_speed >= Real(0)) || !std::isfinite(c.closing_speed))
+      throw ConfigError("state.triangle_contacts[" + std::to_string(k) + "]: reach = " + std::to_string(c.reach) +
+                        " must be >= 0 (or infinity) and closing_speed = " + std::to_string(c.closing_speed) +
+                        " finite and >= 0");
+  }
   build_contact_chains(m, s);
   s.triangle_contact_lambda.resize(s.triangle_contacts.size());
   s.attachment_lambda.resize(s.attachments.size());
@@ -316,7 +321,7 @@ void solve_triangle_friction(const Model& m, State& s, std::size_t k, const Vec3
 
 }  // namespace
 
-void solve_triangle_contacts(const Model& m, State& s) {
+void solve_triangle_contacts(const Model& m, State& s, Real h) {
   for (std::size_t k = 0; k < s.triangle_contacts.size(); ++k) {
     const BodyTriangleContact& c = s.triangle_contacts[k];
     RigidBody& b = body_or_world(s, c.body);
@@ -329,6 +334,7 @@ void solve_triangle_contacts(const Model& m, State& s) {
       continue;  // degenerate triangle
     Real& lambda = s.triangle_contact_lambda[k].normal;
     if (C >= Real(0) && lambda == Real(0)) continue;
+    if (beyond_reach(c, C, h)) continue;
     // g[0] = s n is a unit vector: the body's share is its inverse mass along it.
     Real den = inv_mass_along(b, rw, g[0]);
     for (int i = 0; i < 3; ++i) den += m.inv_mass[c.tri[i]] * g[i + 1].squaredNorm();
@@ -458,9 +464,10 @@ void world_contact_velocities(State& s, Real h) {
 
 namespace {
 // Calls f(C, thickness) for every body contact and rigid-feature-vs-triangle
-// contact of the state, C the contact constraint at the current positions.
+// contact of the state within its reach in a substep of h, C the contact
+// constraint at the current positions.
 template <class F>
-void for_each_contact_constraint(const State& s, F&& f) {
+void for_each_contact_constraint(const State& s, Real h, F&& f) {
   for (const BodyContact& c : s.contacts) {
     const RigidBody& b = body_or_world(s, c.body);
     const Frame fr = contact_frame(b, c, c.body < 0);
@@ -471,24 +478,25 @@ void for_each_contact_constraint(const State& s, F&& f) {
     const Vec3 q = c.body < 0 ? c.r : Vec3(b.x + b.q * c.r);
     Real C;
     Vec3 g[4];
-    if (Penetration::point_triangle(q, s.x[c.tri[0]], s.x[c.tri[1]], s.x[c.tri[2]], c.side, c.thickness, C, g))
+    if (Penetration::point_triangle(q, s.x[c.tri[0]], s.x[c.tri[1]], s.x[c.tri[2]], c.side, c.thickness, C, g) &&
+        !beyond_reach(c, C, h))
       f(C, c.thickness);
   }
 }
 }  // namespace
 
-Real worst_contact_violation(const Model& m, const State& s) {
+Real worst_contact_violation(const Model& m, const State& s, Real h) {
   (void)m;
   Real worst = 0;
-  for_each_contact_constraint(s, [&](Real C, Real thickness) {
+  for_each_contact_constraint(s, h, [&](Real C, Real thickness) {
     if (C < Real(0) && thickness > Real(0)) worst = std::max(worst, -C / thickness);
   });
   return worst;
 }
 
-Real deepest_contact_violation(const State& s) {
+Real deepest_contact_violation(const State& s, Real h) {
   Real deepest = 0;
-  for_each_contact_constraint(s, [&](Real C, Real) {
+  for_each_contact_constraint(s, h, [&](Real C, Real) {
     if (C < Real(0)) deepest = std::max(deepest, -C);
   });
   return deepest;

@@ -407,10 +407,10 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
       // The bodies' contacts with the static world first: the particle
       // contacts, last, then leave no particle inside a body.
       timed(t, stage::body_contacts, !s.world_contacts.empty(), [&] { rigid::solve_world_contacts(s); });
-      if (check) violation = rigid::worst_contact_violation(m, s);
+      if (check) violation = rigid::worst_contact_violation(m, s, h);
       timed(t, stage::body_contacts, !s.contacts.empty(), [&] { rigid::solve_contacts(m, s, h); });
       timed(t, stage::triangle_contacts, !s.triangle_contacts.empty(),
-            [&] { rigid::solve_triangle_contacts(m, s); });
+            [&] { rigid::solve_triangle_contacts(m, s, h); });
     }
     // The bodies' contacts with the static world once more: the particle
     // contacts above may have pushed a body into it, and an overlap a body

@@ -14,6 +14,7 @@
 // velocity and are not pushed.
 #include <Eigen/Geometry>
 #include <array>
+#include <limits>
 #include <vector>
 
 #include "xpbd/types.hpp"
@@ -80,6 +81,15 @@ struct BodyAttachment {
 // clamped to static_friction lambda_n, then on the velocities with what is
 // left of dynamic_friction lambda_n, over h (rigid_solve.cpp says why it is
 // clamped, where a particle contact's is all-or-nothing).
+//
+// The plane stands for the triangle only near it. The contact acts while
+// the feature lies at most reach + closing_speed h behind the plane (h: the
+// substep), and is left alone deeper: there the triangle has turned away
+// under the feature, or the feature has passed the triangle's edge, and
+// pushing it back out of the plane moves the triangle's particles by that
+// depth in one substep, as velocity. A frictionless cloth under a bar that
+// lands and spins on it gained energy that way without bound
+// (docs/collision-queries.md, "Reach of a feature contact").
 struct BodyTriangleContact {
   Index body = -1;                   // index into State::bodies (-1 = static world point)
   Vec3 r = Vec3::Zero();             // m, feature point, body frame (world if body < 0)
@@ -88,7 +98,19 @@ struct BodyTriangleContact {
   Real thickness = 0;                // m
   Real static_friction = 0;          // mu_s, >= 0
   Real dynamic_friction = 0;         // mu_d, >= 0
+  // m, >= 0: how far behind the plane the contact acts (with closing_speed);
+  // infinity = at any depth.
+  Real reach = std::numeric_limits<Real>::infinity();
+  // m/s, >= 0 and finite: how fast the feature and the triangle can close
+  // in on each other; reach grows by closing_speed h in a substep of h.
+  Real closing_speed = 0;
 };
+
+// Whether triangle contact c, whose constraint is C (C >= 0 holds), is deep
+// enough behind its plane to be left alone in a substep of h (its reach).
+inline bool beyond_reach(const BodyTriangleContact& c, Real C, Real h) {
+  return -(C + c.thickness) > c.reach + c.closing_speed * h;
+}
 
 // A rigid body resting on (or touching) the static world or another body:
 // a point of the body against a half-space of the other's surface, found

@@ -30,7 +30,10 @@ void predict_bodies(std::vector<RigidBody>& bodies, Real h);
 // push with static Coulomb friction at position level).
 void solve_attachments(const Model& m, State& s, Real h);
 void solve_contacts(const Model& m, State& s, Real h);
-void solve_triangle_contacts(const Model& m, State& s);
+// Rigid features against soft triangles (BodyTriangleContact): normal push
+// within each contact's reach, then static Coulomb friction at position
+// level.
+void solve_triangle_contacts(const Model& m, State& s, Real h);
 // Dynamic Coulomb friction of the rigid-feature-vs-triangle contacts on
 // the new velocities (after the particle and body velocity updates).
 void triangle_contact_velocities(const Model& m, State& s, Real h);
@@ -44,13 +47,16 @@ void world_contact_velocities(State& s, Real h);
 // The largest contact violation relative to its thickness over body
 // contacts and rigid-feature-vs-triangle contacts: max over contacts of
 // -C / thickness, where C >= 0 is the contact constraint (0 when every
-// contact holds, 1 when a particle centre is on the body's surface).
-Real worst_contact_violation(const Model& m, const State& s);
+// contact holds, 1 when a particle centre is on the body's surface). A
+// triangle contact beyond its reach in a substep of h is not counted: the
+// solve leaves it alone.
+Real worst_contact_violation(const Model& m, const State& s, Real h);
 // The same contacts' deepest violation in metres: max over contacts of -C
 // (how far a particle, or a rigid feature, is inside the contact band of
 // its thickness; 0 when every contact holds). A contact is measured against
-// its body's pose in the state, so after a step: at the step's end.
-Real deepest_contact_violation(const State& s);
+// its body's pose in the state, so after a step: at the step's end. Triangle
+// contacts beyond their reach (substep h) are not counted, as above.
+Real deepest_contact_violation(const State& s, Real h);
 
 // Adds the substep's position impulses of the particle contacts over h to
 // State::body_contact_impulse (after the solve, before the velocity stage).
