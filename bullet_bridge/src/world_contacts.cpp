@@ -219,6 +219,7 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
   st.contacts.clear();
   st.attachments.clear();
   st.triangle_contacts.clear();
+  st.edge_contacts.clear();
   s.shadow_of_body.clear();
   SystemTimes* const times = set.times;  // opt-in timing (nullptr: none)
 
@@ -321,6 +322,7 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
       out.clear();
       particle_contacts_of(s, k, dt, out);
       if (triangles) triangle_contacts_of(s, k, dt, lo, hi, s.feature_scratch[std::size_t(slot)], out);
+      if (triangles && cs.edge_contacts) edge_contacts_of(s, k, dt, lo, hi, s.feature_scratch[std::size_t(slot)], out);
     });
     for (std::size_t k = 0; k < nc; ++k) {
       CandidateContacts& f = s.found[k];
@@ -342,6 +344,14 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
         st.triangle_contacts.insert(st.triangle_contacts.end(), f.triangle.begin(), f.triangle.end());
       }
       stats_.triangle_contacts += static_cast<int>(st.triangle_contacts.size());
+      for (std::size_t k = 0; k < nc; ++k) {
+        CandidateContacts& f = s.found[k];
+        if (f.edge.empty()) continue;
+        const Index body = body_index(s, sc.candidates[k].obj, dt);
+        for (xpbd::BodyEdgeContact& c : f.edge) c.body = body;
+        st.edge_contacts.insert(st.edge_contacts.end(), f.edge.begin(), f.edge.end());
+      }
+      stats_.edge_contacts += static_cast<int>(st.edge_contacts.size());
     }
     const auto t1 = std::chrono::steady_clock::now();
     stats_.contact_seconds += std::chrono::duration<double>(t1 - t0).count();

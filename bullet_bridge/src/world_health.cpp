@@ -61,6 +61,10 @@ void XpbdWorld::health_before_solve(System& s, btScalar dt) {
   for (const xpbd::BodyContact& c : st.contacts) body_point(c.body, c.r);
   for (const xpbd::BodyAttachment& a : st.attachments) body_point(a.body, a.r);
   for (const xpbd::BodyTriangleContact& c : st.triangle_contacts) body_point(c.body, c.r);
+  for (const xpbd::BodyEdgeContact& c : st.edge_contacts) {
+    body_point(c.body, c.a);
+    body_point(c.body, c.b);
+  }
   if (s.health_pins.size() == st.pin_target.size() && dt > 0)
     for (std::size_t k = 0; k < st.pin_target.size(); ++k)
       v = std::max(v, double((st.pin_target[k] - s.health_pins[k]).norm()) / double(dt));

@@ -182,12 +182,14 @@ struct XpbdWorld::Shadow {
 struct XpbdWorld::CandidateContacts {
   std::vector<xpbd::BodyContact> particle;
   std::vector<xpbd::BodyTriangleContact> triangle;
+  std::vector<xpbd::BodyEdgeContact> edge;
   int queries = 0;  // StepStats::queries
   int swept = 0;    // StepStats::swept_triangle_contacts
   int capped = 0;   // StepStats::capped_features
   void clear() {
     particle.clear();
     triangle.clear();
+    edge.clear();
     queries = swept = capped = 0;
   }
 };
@@ -202,9 +204,19 @@ struct XpbdWorld::FeatureScratch {
   std::vector<btTransform> path_tf;            // a fast body's poses along the step
   std::vector<int> body_tris, tri_found;       // triangles the hierarchy returned (body, feature)
   detail::TriangleGrid grid;                   // the body's triangles near its features
+  std::vector<std::array<Vec3, 2>> box_edges;  // a body's box edges (body frame)
+  std::vector<int> body_edges_tris, all_tris;  // the triangles a body's box edges test, ascending
+  std::vector<unsigned> edge_stamp;            // per soft edge: the last rigid edge that tested it
+  unsigned stamp = 0;
 };
 
 namespace detail {
+
+// The edges of triangles `tris`, each once (lower index first, in order of
+// first appearance), and each triangle's three edges as indices into them
+// (world_edge_contacts.cpp).
+void find_soft_edges(const std::vector<std::array<xpbd::Index, 3>>& tris, std::vector<std::array<xpbd::Index, 2>>& edges,
+                     std::vector<std::array<int, 3>>& tri_edges);
 
 // Calls f(k, slot) once for every k in [0, count): on the calling thread in
 // order without a pool (or with one thread, or one item), else on up to
@@ -257,6 +269,10 @@ struct XpbdWorld::System {
   std::vector<CandidateContacts> found;      // scratch: per candidate, what the search found
   std::vector<FeatureScratch> feature_scratch;  // scratch: per thread of the search
   std::unique_ptr<detail::TriangleBvh> tri_bvh;  // ContactSettings::triangle_bvh_from; made on first use
+  // The collision triangles' edges, each once, and each triangle's three
+  // (indices into soft_edges); made on first use (triangle_bounds).
+  std::vector<std::array<xpbd::Index, 2>> soft_edges;
+  std::vector<std::array<int, 3>> tri_edges;
   std::vector<BodyContactReport> report;     // contact_report(id): the last step's
   StepCallback callback;                     // set_step_callback(id)
   bool stepped = false;                      // stepped in the current internal step

@@ -212,6 +212,7 @@ void XpbdWorld::triangle_bounds(System& s, btScalar dt) {
       tri_hi_[t] = sweep_hi_[std::size_t(p0)].cwiseMax(sweep_hi_[std::size_t(p1)]).cwiseMax(sweep_hi_[std::size_t(p2)]).array() + grow;
     }
   });
+  if (s.tri_edges.size() != tris.size()) detail::find_soft_edges(tris, s.soft_edges, s.tri_edges);
   if (tris.size() >= std::size_t(cs.triangle_bvh_from)) {
     if (!s.tri_bvh) s.tri_bvh = std::make_unique<detail::TriangleBvh>();
     s.tri_bvh->update(tris, st.x, tri_lo_, tri_hi_, s.settings.workers);
@@ -233,6 +234,7 @@ void XpbdWorld::triangle_contacts_of(const System& s, std::size_t k, btScalar dt
   Vec3 path_lo, path_hi;                       // and its box
   features.clear();
   centres.clear();
+  fs.body_tris.clear();  // read by edge_contacts_of after this call
   const btCollisionShape& shape = *obj->getCollisionShape();
   detail::collect_features(shape, btTransform::getIdentity(), cs.feature_spacing, features, true, &centres);
   const Shadow& sh = shadows_[std::size_t(cand.shadow)];

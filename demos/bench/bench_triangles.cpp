@@ -138,6 +138,7 @@ struct Scene {
     st.contacts.clear();
     st.attachments.clear();
     st.triangle_contacts.clear();
+    st.edge_contacts.clear();
     StepConfig c;
     c.dt = kDt;
     c.substeps = 10;

@@ -74,8 +74,19 @@ void begin_step(const Model& m, State& s) {
                         " must be >= 0 (or infinity) and closing_speed = " + std::to_string(c.closing_speed) +
                         " finite and >= 0");
   }
+  for (std::size_t k = 0; k < s.edge_contacts.size(); ++k) {
+    const BodyEdgeContact& c = s.edge_contacts[k];
+    for (Index p : c.p) check_index(m, s, "edge_contacts", k, p, c.body);
+    if (!c.a.allFinite() || !c.b.allFinite() || !(c.reach >= Real(0)) || !(c.closing_speed >= Real(0)) ||
+        !std::isfinite(c.closing_speed) || !std::isfinite(c.thickness) || c.thickness < Real(0) ||
+        !(std::abs(c.side) == Real(1)))
+      throw ConfigError("state.edge_contacts[" + std::to_string(k) +
+                        "]: a, b must be finite, side +1 or -1, thickness finite and >= 0, reach >= 0 (or "
+                        "infinity) and closing_speed finite and >= 0");
+  }
   build_contact_chains(m, s);
   s.triangle_contact_lambda.resize(s.triangle_contacts.size());
+  s.edge_contact_lambda.resize(s.edge_contacts.size());
   s.attachment_lambda.resize(s.attachments.size());
   s.attachment_impulse.resize(s.attachments.size(), Vec3::Zero());
   for (std::size_t k = 0; k < s.world_contacts.size(); ++k) {
@@ -130,6 +141,7 @@ void begin_substep(const Model& m, State& s) {
   std::fill(s.attachment_lambda.begin(), s.attachment_lambda.end(), Real(0));
   std::fill(s.attachment_impulse.begin(), s.attachment_impulse.end(), Vec3::Zero());
   std::fill(s.triangle_contact_lambda.begin(), s.triangle_contact_lambda.end(), ContactLambda{});
+  std::fill(s.edge_contact_lambda.begin(), s.edge_contact_lambda.end(), Real(0));
   std::fill(s.world_contact_lambda.begin(), s.world_contact_lambda.end(), ContactLambda{});
   for (std::size_t k = 0; k < s.contacts.size(); ++k) {
     const BodyContact& c = s.contacts[k];
@@ -481,6 +493,11 @@ void for_each_contact_constraint(const State& s, Real h, F&& f) {
     if (Penetration::point_triangle(q, s.x[c.tri[0]], s.x[c.tri[1]], s.x[c.tri[2]], c.side, c.thickness, C, g) &&
         !beyond_reach(c, C, h))
       f(C, c.thickness);
+  }
+  for (std::size_t k = 0; k < s.edge_contacts.size(); ++k) {
+    Real C, t;
+    Vec3 n, rw;
+    if (edge_contact_constraint(s, k, h, C, n, t, rw)) f(C, s.edge_contacts[k].thickness);
   }
 }
 }  // namespace

@@ -385,7 +385,8 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
     // prediction; after later ones: what the other constraints did to the
     // positions the contacts left; after the contacts' own projection the
     // violation is always about 0 and tells nothing).
-    const bool check = cfg.contact_sweeps > 0 && (!s.contacts.empty() || !s.triangle_contacts.empty());
+    const bool check =
+        cfg.contact_sweeps > 0 && (!s.contacts.empty() || !s.triangle_contacts.empty() || !s.edge_contacts.empty());
     Real violation = 0, before = 0;
     for (int it = 0; it < cfg.iterations + cfg.contact_sweeps; ++it) {
       if (it >= cfg.iterations &&
@@ -411,6 +412,7 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
       timed(t, stage::body_contacts, !s.contacts.empty(), [&] { rigid::solve_contacts(m, s, h); });
       timed(t, stage::triangle_contacts, !s.triangle_contacts.empty(),
             [&] { rigid::solve_triangle_contacts(m, s, h); });
+      timed(t, stage::triangle_contacts, !s.edge_contacts.empty(), [&] { rigid::solve_edge_contacts(m, s, h); });
     }
     // The bodies' contacts with the static world once more: the particle
     // contacts above may have pushed a body into it, and an overlap a body

@@ -51,6 +51,11 @@ struct ContactSettings {
   // side away from its shape's centre, is pushed back to the centre's side
   // (docs/collision-queries.md, "Fast features").
   bool sweep_features = true;
+  // The edges of the collision_triangles against the edges of box shapes
+  // (xpbd::BodyEdgeContact): a cloth folded tight over a box's edge has no
+  // face over the edge's feature points, and its edge along the fold went
+  // through the box (docs/collision-queries.md, "Edge against edge").
+  bool edge_contacts = true;
   // From this many collision_triangles on (>= 0), the rigid features are
   // matched with the triangles through a bounding volume hierarchy of the
   // triangles' swept boxes (built by FCL once, refitted every step) and a

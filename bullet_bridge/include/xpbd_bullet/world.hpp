@@ -104,6 +104,8 @@ struct StepStats {
   // Of those, the ones only the path of a fast feature found (continuous
   // collision: ContactSettings::sweep_features).
   int swept_triangle_contacts = 0;
+  // Rigid edge - soft edge contacts created (ContactSettings::edge_contacts).
+  int edge_contacts = 0;
   // Features that reached 16 feature-triangle contacts in the step, the
   // most one gets (the first found; the rest of its candidate triangles are
   // not tested). A feature rests on a few triangles; many more come from a
@@ -396,6 +398,11 @@ class XpbdWorld : public btActionInterface {
   // hi: the system's box over the step (world_triangle_contacts.cpp).
   void triangle_contacts_of(const System& s, std::size_t k, btScalar dt, const xpbd::Vec3& lo,
                             const xpbd::Vec3& hi, FeatureScratch& scratch, CandidateContacts& out) const;
+  // The candidate's box edges against the edges of s's collision triangles
+  // near them; lo, hi as above (ContactSettings::edge_contacts;
+  // world_edge_contacts.cpp).
+  void edge_contacts_of(const System& s, std::size_t k, btScalar dt, const xpbd::Vec3& lo, const xpbd::Vec3& hi,
+                        FeatureScratch& fs, CandidateContacts& out) const;
   // Inside the step, at the start of substep `sub`: contacts for the
   // particles that left the path their contacts cover (world_refresh.cpp).
   void refresh_contacts(System& s, btScalar dt, int sub, std::span<const xpbd::Index> escaped);

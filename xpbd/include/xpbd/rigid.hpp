@@ -106,6 +106,29 @@ struct BodyTriangleContact {
   Real closing_speed = 0;
 };
 
+// A rigid body's edge (a box's: ends a, b in the body frame) against a
+// soft edge (particles p[0], p[1]: an edge of the collision triangles),
+// where a cloth folded tight over the body's edge has no face for the
+// edge's feature points to meet. With e_r = b - a, e_s = x1 - x0 (world)
+// and u, t the parameters of the two lines' closest points:
+//   C = side n.(x_s(t) - x_r(u)) - thickness >= 0,
+//   n = e_r x e_s / |e_r x e_s|,
+// side recorded when the contact is found (the start of the step). The
+// soft edge takes (1 - t) and t of the push; the body its share through its
+// inverse mass along n at x_r(u). It acts while both closest points lie on
+// their edges (u and t in [0, 1]; past an end the feature points and the
+// particle contacts answer), the edges are more than about a degree from
+// parallel, and within its reach (as BodyTriangleContact). No friction.
+struct BodyEdgeContact {
+  Index body = -1;                     // index into State::bodies (-1 = static world edge)
+  Vec3 a = Vec3::Zero(), b = Vec3::Zero();  // m, the rigid edge's ends, body frame (world if body < 0)
+  std::array<Index, 2> p{};            // the soft edge's particles
+  Real side = 1;                       // +1 or -1
+  Real thickness = 0;                  // m
+  Real reach = std::numeric_limits<Real>::infinity();  // m, >= 0 (BodyTriangleContact::reach)
+  Real closing_speed = 0;              // m/s, >= 0 and finite
+};
+
 // Whether triangle contact c, whose constraint is C (C >= 0 holds), is deep
 // enough behind its plane to be left alone in a substep of h (its reach).
 inline bool beyond_reach(const BodyTriangleContact& c, Real C, Real h) {

@@ -63,6 +63,8 @@ struct State {
   std::vector<Index> contact_last;  // per particle, -1 between steps (scratch)
   std::vector<BodyTriangleContact> triangle_contacts;  // rigid features vs soft triangles
   std::vector<ContactLambda> triangle_contact_lambda;  // parallel (sized by step())
+  std::vector<BodyEdgeContact> edge_contacts;          // rigid edges vs soft edges
+  std::vector<Real> edge_contact_lambda;               // kg*m, parallel (sized by step())
   std::vector<BodyAttachment> attachments;
   std::vector<Real> attachment_lambda;      // kg*m, parallel to attachments (sized by step())
   // kg*m, world, parallel to attachments (sized by step()): the position

@@ -1,0 +1,142 @@
+// Rigid edges against soft edges (xpbd::BodyEdgeContact, rigid_edges.cpp),
+// on hand-placed edges with closed-form answers.
+#include <gtest/gtest.h>
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "xpbd/rigid_solve.hpp"
+#include "xpbd/xpbd.hpp"
+
+namespace {
+
+using xpbd::Real;
+using xpbd::Vec3;
+
+constexpr Real kH = Real(1) / 600;  // s, the substep
+const double kTol = 1e3 * std::numeric_limits<Real>::epsilon();
+
+// A soft edge of two 1 kg particles along z at height y, from z = -0.2 to
+// 0.6, above (side +1: on +y of) a rigid edge along x at y = 0 through the
+// origin, 5 mm thick. The closest points are at z = 0 on the soft edge
+// (t = 1/4) and x = x0 on the rigid one. `body`: -1 for a static world
+// edge from (-1, 0, 0) to (1, 0, 0), else a 1 kg body at the origin whose
+// edge that is (in its frame, unrotated).
+struct EdgeCase {
+  xpbd::Model model;
+  xpbd::State state;
+};
+
+EdgeCase make(Real y, Real x0, int body) {
+  xpbd::SceneDesc scene;
+  scene.add_particle(Vec3(x0, y, Real(-0.2)), Real(1));
+  scene.add_particle(Vec3(x0, y, Real(0.6)), Real(1));
+  EdgeCase s{xpbd::compile(scene), {}};
+  s.state = xpbd::make_state(s.model);
+  if (body >= 0) {
+    xpbd::RigidBody b;
+    b.inv_mass = 1;
+    b.inv_inertia = Vec3::Constant(1);
+    s.state.bodies.push_back(b);
+  }
+  xpbd::BodyEdgeContact c;
+  c.body = body;
+  c.a = Vec3(-1, 0, 0);
+  c.b = Vec3(1, 0, 0);
+  c.p = {0, 1};
+  // n = (b - a) x (x1 - x0) = (2, 0, 0) x (0, 0, 0.8) = (0, -1.6, 0): the
+  // soft edge above is on its -1 side.
+  c.side = -1;
+  c.thickness = Real(0.005);
+  s.state.edge_contacts.push_back(c);
+  xpbd::rigid::begin_step(s.model, s.state);
+  return s;
+}
+
+// 2 mm above a static edge with 5 mm thickness: C = -3 mm. The soft edge
+// takes 3/4 and 1/4 of the push at t = 1/4 (inverse mass w_i^2 summed:
+// 0.625), so the particles rise by 0.75 and 0.25 of 3 mm / 0.625, and the
+// soft edge's closest point ends the thickness above the rigid edge.
+TEST(RigidEdges, SoftEdgeIsPushedOutToTheThicknessByItsWeights) {
+  EdgeCase s = make(Real(0.002), Real(0.2), -1);
+  xpbd::rigid::solve_edge_contacts(s.model, s.state, kH);
+  const double dl = 0.003 / 0.625;
+  EXPECT_NEAR(double(s.state.x[0].y()), 0.002 + 0.75 * dl, kTol);
+  EXPECT_NEAR(double(s.state.x[1].y()), 0.002 + 0.25 * dl, kTol);
+  EXPECT_NEAR(double(0.75 * s.state.x[0].y() + 0.25 * s.state.x[1].y()), 0.005, kTol);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_EQ(s.state.x[std::size_t(i)].x(), Real(0.2));
+    EXPECT_EQ(s.state.x[std::size_t(i)].z(), s.model.x0[std::size_t(i)].z());
+  }
+}
+
+// The same against a free 1 kg body whose edge passes through its centre
+// (lever arm 0 at x0 = 0): the body takes the push through its inverse mass
+// (1 + 0.625 in the denominator) and the soft edge's opposite push; the
+// momentum of the two is conserved.
+TEST(RigidEdges, BodyTakesItsShareAndMomentumIsConserved) {
+  EdgeCase s = make(Real(0.002), Real(0), 0);
+  xpbd::rigid::solve_edge_contacts(s.model, s.state, kH);
+  const double dl = 0.003 / 1.625;
+  EXPECT_NEAR(double(s.state.x[0].y()), 0.002 + 0.75 * dl, kTol);
+  EXPECT_NEAR(double(s.state.x[1].y()), 0.002 + 0.25 * dl, kTol);
+  EXPECT_NEAR(double(s.state.bodies[0].x.y()), -dl, kTol);
+  const double particles = double(s.state.x[0].y() + s.state.x[1].y()) - 0.004;  // 1 kg each
+  EXPECT_NEAR(particles + double(s.state.bodies[0].x.y()), 0.0, kTol);
+}
+
+// Where the contact does not act, nothing moves: the closest point past the
+// rigid edge's end (x0 = 1.5), the soft edge already the thickness away
+// (6 mm), and 3 cm below (behind: the contact keeps it above) with a reach
+// of 1 cm plus 6 m/s over the substep (2 cm). With 18 m/s (4 cm) it acts.
+TEST(RigidEdges, NoPushPastAnEndOutsideTheThicknessOrBeyondTheReach) {
+  for (const auto& [y, x0] : {std::pair{Real(0.002), Real(1.5)}, std::pair{Real(0.006), Real(0.2)}}) {
+    EdgeCase s = make(y, x0, -1);
+    xpbd::rigid::solve_edge_contacts(s.model, s.state, kH);
+    EXPECT_EQ(s.state.x, s.model.x0) << "y " << y << ", x0 " << x0;
+  }
+  for (const Real speed : {Real(6), Real(18)}) {
+    EdgeCase s = make(Real(-0.03), Real(0.2), -1);
+    s.state.edge_contacts[0].reach = Real(0.01);
+    s.state.edge_contacts[0].closing_speed = speed;
+    xpbd::rigid::solve_edge_contacts(s.model, s.state, kH);
+    if (speed < 10)
+      EXPECT_EQ(s.state.x, s.model.x0);
+    else
+      EXPECT_NEAR(double(0.75 * s.state.x[0].y() + 0.25 * s.state.x[1].y()), 0.005, kTol);
+  }
+}
+
+// Parallel edges have no normal: the soft edge along x over the rigid one
+// is left alone (the feature points along the rigid edge answer there).
+TEST(RigidEdges, ParallelEdgesAreLeftAlone) {
+  EdgeCase s = make(Real(0.002), Real(0.2), -1);
+  s.state.x[1] = Vec3(Real(0.6), Real(0.002), Real(-0.2));
+  const std::vector<Vec3> before = s.state.x;
+  xpbd::rigid::solve_edge_contacts(s.model, s.state, kH);
+  EXPECT_EQ(s.state.x, before);
+}
+
+// Bad contacts are named by field and index.
+TEST(RigidEdges, BadContactsAreNamed) {
+  const auto expect_named = [](const auto& spoil, const std::string& what) {
+    EdgeCase s = make(Real(0.002), Real(0.2), -1);
+    spoil(s.state.edge_contacts[0]);
+    try {
+      xpbd::rigid::begin_step(s.model, s.state);
+      ADD_FAILURE() << what << " accepted";
+    } catch (const xpbd::ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("edge_contacts[0]"), std::string::npos) << what << ": " << e.what();
+    }
+  };
+  expect_named([](xpbd::BodyEdgeContact& c) { c.p[1] = 7; }, "particle 7 of 2");
+  expect_named([](xpbd::BodyEdgeContact& c) { c.side = 0; }, "side 0");
+  expect_named([](xpbd::BodyEdgeContact& c) { c.a.x() = std::numeric_limits<Real>::quiet_NaN(); }, "a NaN end");
+  expect_named([](xpbd::BodyEdgeContact& c) { c.reach = -1; }, "reach -1");
+  expect_named([](xpbd::BodyEdgeContact& c) { c.closing_speed = std::numeric_limits<Real>::infinity(); },
+               "an infinite closing speed");
+  expect_named([](xpbd::BodyEdgeContact& c) { c.thickness = -1; }, "thickness -1");
+}
+
+}  // namespace
