@@ -27,8 +27,15 @@ constexpr int kEdgeContacts = 64;
 // along the box edge, as in the solve (rigid_edges.cpp).
 constexpr Real kParallelSin = Real(0.02);
 
-// The edges of the box shapes in `shape` (compounds followed), body frame.
-void collect_box_edges(const btCollisionShape& shape, const btTransform& t, std::vector<std::array<Vec3, 2>>& out) {
+// The soft edge's side of a box edge is its outside: the normal of the
+// contact must lean at least this far (cosine) towards the box edge's
+// outward bisector, or the pair has no outside along it (a soft edge lying
+// along the corner) and gets no contact.
+constexpr Real kOutsideCos = Real(0.25);
+
+// The edges of the box shapes in `shape` (compounds followed), body frame:
+// the ends and the outward bisector of the two faces that meet there.
+void collect_box_edges(const btCollisionShape& shape, const btTransform& t, std::vector<std::array<Vec3, 3>>& out) {
   if (shape.isCompound()) {
     const auto& c = static_cast<const btCompoundShape&>(shape);
     for (int i = 0; i < c.getNumChildShapes(); ++i)
@@ -40,7 +47,11 @@ void collect_box_edges(const btCollisionShape& shape, const btTransform& t, std:
   for (int i = 0; i < box.getNumEdges(); ++i) {
     btVector3 a, b;
     box.getEdge(i, a, b);
-    out.push_back({to_vec(t * a), to_vec(t * b)});
+    // The edge's midpoint off its axis is the bisector (the box is centred
+    // on its own origin).
+    const btVector3 mid = (a + b) * btScalar(0.5), axis = (b - a).normalized();
+    const btVector3 out_dir = mid - axis * axis.dot(mid);
+    out.push_back({to_vec(t * a), to_vec(t * b), to_vec(t.getBasis() * out_dir).normalized()});
   }
 }
 
@@ -104,13 +115,14 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
     fs.all_tris.resize(tris.size());
     for (std::size_t t = 0; t < tris.size(); ++t) fs.all_tris[t] = int(t);
   }
-  for (const auto& [a, b] : fs.box_edges) {
+  for (const auto& [a, b, outward] : fs.box_edges) {
     if (++fs.stamp == 0) {  // wrapped: forget every mark
       std::fill(fs.edge_stamp.begin(), fs.edge_stamp.end(), 0u);
       fs.stamp = 1;
     }
     const Vec3 A = to_vec(start * to_bt(a)), B = to_vec(start * to_bt(b));
     const Vec3 er = B - A;
+    const Vec3 out_dir = to_vec(start.getBasis() * to_bt(outward));
     const Real travel = dt * (vb.norm() + ab + wb * std::max(a.norm(), b.norm()));
     // The box edge's box over the step; the triangles' boxes are grown by
     // their thickness and margin already (triangle_bounds).
@@ -140,16 +152,26 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
         const Real rs = er.dot(es), d = er.dot(w0), f = es.dot(w0);
         const Real u = (rs * f - ss * d) / n2, v = (rr * f - rs * d) / n2;
         if (!(u >= Real(0) && u <= Real(1) && v >= Real(0) && v <= Real(1))) continue;
+        // The side is the outside of the box edge, whichever side the soft
+        // edge starts on: one that has just gone through is pushed back
+        // out, not held inside.
+        const Real lean = nn.dot(out_dir) / std::sqrt(n2);
+        if (!(std::abs(lean) >= kOutsideCos)) continue;
         const Real dist = nn.dot(P - A) / std::sqrt(n2);
         const Real thick = std::max({m.radius[p0], m.radius[p1], Real(0)}) + cs.thickness;
         const Real move = std::max(travel, dt * (std::max((st.v[p0] - vb).norm(), (st.v[p1] - vb).norm()) + ab));
-        if (!(std::abs(dist) <= thick + cs.margin + move)) continue;
+        // Nearer than the band on the outside, or inside by at most the
+        // thickness. Deeper inside, the soft edge has gone through at
+        // speed (a blade's edge), and it is neither held there nor pushed
+        // out over the edge from deep in (the particle contacts answer).
+        const Real out_dist = lean > Real(0) ? dist : -dist;
+        if (!(out_dist <= thick + cs.margin + move) || !(out_dist >= -thick)) continue;
         if (++found == kEdgeContacts) ++out.capped;
         xpbd::BodyEdgeContact c;  // body: set when joined (step_system)
         c.a = a;
         c.b = b;
         c.p = {p0, p1};
-        c.side = dist >= Real(0) ? Real(1) : Real(-1);
+        c.side = lean > Real(0) ? Real(1) : Real(-1);
         c.thickness = thick;
         c.reach = cs.margin;
         c.closing_speed = move / dt;

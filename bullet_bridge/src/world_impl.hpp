@@ -204,7 +204,7 @@ struct XpbdWorld::FeatureScratch {
   std::vector<btTransform> path_tf;            // a fast body's poses along the step
   std::vector<int> body_tris, tri_found;       // triangles the hierarchy returned (body, feature)
   detail::TriangleGrid grid;                   // the body's triangles near its features
-  std::vector<std::array<Vec3, 2>> box_edges;  // a body's box edges (body frame)
+  std::vector<std::array<Vec3, 3>> box_edges;  // a body's box edges: ends, outward bisector (body frame)
   std::vector<int> body_edges_tris, all_tris;  // the triangles a body's box edges test, ascending
   std::vector<unsigned> edge_stamp;            // per soft edge: the last rigid edge that tested it
   unsigned stamp = 0;

@@ -22,7 +22,7 @@
 // Measured when this was written, swept / not swept: 0 / 55 frames,
 // largest strain 0.16 / 0.56 (double); 0 / 48 frames, 0.07 / 0.35 (float).
 // With the edge contacts (2026-11-27, double): swept 0 frames, strain
-// 0.12; not swept 19 frames, 0.13.
+// 0.12.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -151,26 +151,26 @@ TEST(WorldBlade, ThinFastBladeStaysOnItsSideOfTheCloth) {
   EXPECT_GE(off.frames_cut, 20);
 }
 
-// A finer cloth on a longer blade: 24 x 24 (4.3 cm between particles) on
-// a blade 0.8 m long (tips at 8 m/s, 13 cm per step). The cloth folds over
-// the blade's 1 cm top edge; along the fold a cloth edge between two
-// particles on the two faces passed through the blade, where no face of the
-// cloth is over the edge's feature points. The edge contacts
-// (ContactSettings::edge_contacts) hold such cloth edges against the
-// blade's edges. Measured when they were added (double, sweep on): cut in
-// 148 of 240 frames without them, 34 with (strain 2.1 and 2.8); not solved,
-// but asserted: at least halved, and no particle centre deeper than the
-// thickness in either run.
-TEST(WorldBlade, EdgeContactsHoldAFineClothFoldedOverTheBlade) {
-  const BladeRun with = run(true, true, 24, Real(0.4)), without = run(true, false, 24, Real(0.4));
-  for (const auto& [name, r] : {std::pair{"edge contacts", with}, std::pair{"no edge contacts", without}})
-    std::printf("24 x 24 on a 0.8 m blade, %s: %d of %d frames with the blade across a triangle, largest strain "
-                "%.3f, deepest particle %.3g m\n",
-                name, r.frames_cut, kFrames, double(r.max_strain), double(r.deepest));
-  ASSERT_TRUE(with.finite);
-  EXPECT_LE(with.deepest, kThick);
-  EXPECT_LE(without.deepest, kThick);
-  EXPECT_LE(2 * with.frames_cut, without.frames_cut);
+// The edge contacts alone (ContactSettings::edge_contacts, the sweep off):
+// the cloth folds over the blade's 1 cm top edge, and along the fold a
+// cloth edge between two particles on the two faces passed through the
+// blade, where no face of the cloth is over the edge's feature points.
+// Each cloth edge near a blade edge is held on the blade edge's outside.
+// Asserted as for the sweep: at most 2 of the 240 frames cut, no particle
+// centre deeper than the thickness, no edge stretched beyond 50 %; the
+// control (neither) is the test above's, 55 frames. Measured when this was
+// written (double): 0 frames, strain 0.10; over 7 variants of the drop
+// point and spin (scratch), 0-12 frames, where without them 0-230 (and a
+// side kept from the start of the step instead of the outside: 0-222).
+TEST(WorldBlade, EdgeContactsAloneKeepTheClothOffTheBladesEdge) {
+  const BladeRun r = run(false, true);
+  std::printf("edge contacts, not swept: %d of %d frames with the blade across a triangle, largest strain %.3f, "
+              "deepest particle %.3g m\n",
+              r.frames_cut, kFrames, double(r.max_strain), double(r.deepest));
+  ASSERT_TRUE(r.finite);
+  EXPECT_LE(r.deepest, kThick);
+  EXPECT_LE(r.max_strain, Real(0.5));
+  EXPECT_LE(r.frames_cut, 2);
 }
 
 }  // namespace XPBD_TEST_FILE_ID
