@@ -9,7 +9,7 @@
 // triangle (its sweep over the step, grown by its contact band), each inner
 // node's box over its two children's. FCL's own refit (beginUpdateModel /
 // updateSubModel / endUpdateModel) fits the leaves over the vertices itself
-// and took several times as long (docs/collision-queries.md). A query walks
+// and took several times as long (docs/feature-contacts.md). A query walks
 // the tree and returns the triangles whose box overlaps a box; the caller
 // then applies its own exact tests, so the hierarchy only removes triangles
 // that cannot pass them. FCL's types stay in triangle_bvh.cpp.

@@ -1,8 +1,7 @@
 // Rigid features against a cloth's collision triangles: the loop over every
 // triangle against the hierarchy of the triangles (built by FCL, refitted
 // every step) with a grid per body
-// (ContactSettings::triangle_bvh_from; docs/collision-queries.md, "Rigid
-// features against cloth triangles").
+// (ContactSettings::triangle_bvh_from; docs/feature-contacts.md).
 //
 // Scene, per cloth size n x n (the arguments; by default 4 .. 128): a 2 m x 2 m cloth (1 kg, the
 // compliances of bench_contacts' cloth) with collision triangles, dropped

@@ -49,12 +49,12 @@ struct ContactSettings {
   // whose contact band it would enter, not only the one it starts over;
   // and one found over a triangle less than the thickness from it, on the
   // side away from its shape's centre, is pushed back to the centre's side
-  // (docs/collision-queries.md, "Fast features").
+  // (docs/feature-contacts.md, "Fast features").
   bool sweep_features = true;
   // The edges of the collision_triangles against the edges of box shapes
   // (xpbd::BodyEdgeContact): a cloth folded tight over a box's edge has no
   // face over the edge's feature points, and its edge along the fold went
-  // through the box (docs/collision-queries.md, "Edge against edge").
+  // through the box (docs/feature-contacts.md, "Edge against edge").
   bool edge_contacts = true;
   // From this many collision_triangles on (>= 0), the rigid features are
   // matched with the triangles through a bounding volume hierarchy of the
@@ -63,7 +63,7 @@ struct ContactSettings {
   // contacts in the same order either way: 0 (the default) = always, a
   // number above the model's = never. The hierarchy was faster at every
   // size measured, from 18 triangles (1.2x) to 32,258 (140-158x)
-  // (docs/collision-queries.md).
+  // (docs/feature-contacts.md).
   int triangle_bvh_from = 0;
   // Bullet collision filter of the particle system.
   int filter_group = btBroadphaseProxy::DefaultFilter;

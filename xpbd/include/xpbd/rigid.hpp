@@ -89,7 +89,7 @@ struct BodyAttachment {
 // pushing it back out of the plane moves the triangle's particles by that
 // depth in one substep, as velocity. A frictionless cloth under a bar that
 // lands and spins on it gained energy that way without bound
-// (docs/collision-queries.md, "Reach of a feature contact").
+// (docs/feature-contacts.md, "Reach of a feature contact").
 struct BodyTriangleContact {
   Index body = -1;                   // index into State::bodies (-1 = static world point)
   Vec3 r = Vec3::Zero();             // m, feature point, body frame (world if body < 0)
