@@ -113,12 +113,14 @@ struct BodyTriangleContact {
 // and u, t the parameters of the two lines' closest points:
 //   C = side n.(x_s(t) - x_r(u)) - thickness >= 0,
 //   n = e_r x e_s / |e_r x e_s|,
-// side recorded when the contact is found (the start of the step). The
-// soft edge takes (1 - t) and t of the push; the body its share through its
-// inverse mass along n at x_r(u). It acts while both closest points lie on
-// their edges (u and t in [0, 1]; past an end the feature points and the
-// particle contacts answer), the edges are more than about a degree from
-// parallel, and within its reach (as BodyTriangleContact). No friction.
+// side: the side of the rigid edge the soft edge belongs on (the Bullet
+// bridge takes the box edge's outside, docs/feature-contacts.md, "Edge
+// against edge"). The soft edge takes (1 - t) and t of the push; the body
+// its share through its inverse mass along n at x_r(u). It acts while both
+// closest points lie on their edges (u and t in [0, 1]; past an end the
+// feature points and the particle contacts answer), the edges are more
+// than about a degree from parallel, and within its reach (as
+// BodyTriangleContact). No friction.
 struct BodyEdgeContact {
   Index body = -1;                     // index into State::bodies (-1 = static world edge)
   Vec3 a = Vec3::Zero(), b = Vec3::Zero();  // m, the rigid edge's ends, body frame (world if body < 0)
