@@ -17,12 +17,18 @@
 //    cloth deeper than the thickness. Checked with the separating axis
 //    test of a triangle against a box (13 axes), written here, not the
 //    library's. At most 2 of the 240 frames may have one.
-// And, to show what the sweep does, the same run without it and without
-// the edge contacts: the blade cuts into the cloth in at least 20 frames.
+// Printed: the same run without the sweep and without the edge contacts.
 // Measured when this was written, swept / not swept: 0 / 55 frames,
 // largest strain 0.16 / 0.56 (double); 0 / 48 frames, 0.07 / 0.35 (float).
 // With the edge contacts (2026-11-27, double): swept 0 frames, strain
-// 0.12.
+// 0.12. That control was asserted (at least 20 frames cut) until a
+// particle contact's friction and push went to the body's point under the
+// particle instead of the point the contact was found at (2026-11-28,
+// xpbd/src/rigid_internal.hpp, contact_frame): the blade now throws the
+// free cloth off within a second in all three runs (on the ground by frame
+// 60-100, where the control's stayed on the blade, hooked on it, for 160
+// frames, and was cut in 55), so the control no longer shows what the
+// sweep does; the remaining frames check the cloth on the ground.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -148,7 +154,6 @@ TEST(WorldBlade, ThinFastBladeStaysOnItsSideOfTheCloth) {
   EXPECT_LE(on.deepest, kThick);
   EXPECT_LE(on.max_strain, Real(0.5));
   EXPECT_LE(on.frames_cut, 2);
-  EXPECT_GE(off.frames_cut, 20);
 }
 
 // The edge contacts alone (ContactSettings::edge_contacts, the sweep off):
@@ -158,8 +163,9 @@ TEST(WorldBlade, ThinFastBladeStaysOnItsSideOfTheCloth) {
 // Each cloth edge near a blade edge is held on the blade edge's outside.
 // Asserted as for the sweep: at most 2 of the 240 frames cut, no particle
 // centre deeper than the thickness, no edge stretched beyond 50 %; the
-// control (neither) is the test above's, 55 frames. Measured when this was
-// written (double): 0 frames, strain 0.10; over 7 variants of the drop
+// control (neither) was the test above's, 55 frames (before 2026-11-28:
+// see there). Measured when this was written (double): 0 frames, strain
+// 0.10; over 7 variants of the drop
 // point and spin (scratch), 0-12 frames, where without them 0-230 (and a
 // side kept from the start of the step instead of the outside: 0-222).
 TEST(WorldBlade, EdgeContactsAloneKeepTheClothOffTheBladesEdge) {

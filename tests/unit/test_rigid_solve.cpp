@@ -87,6 +87,100 @@ TEST(RigidSolve, OffCentreHitConservesLinearAndAngularMomentum) {
   EXPECT_LT((after.angular - before.angular).norm(), std::max(Real(1e-5), roundoff) * scale);
 }
 
+// The same hit, with the particle 0.25 m along the contact's plane from
+// the point c.r the contact was found at (it slid there after the host
+// found the contact). The body is pushed where the particle touches its
+// plane, not at c.r: the two pushes act along one line, and angular
+// momentum is conserved as above. With the push at c.r the angular
+// momentum changes by (x - p) x (push), an O(1) error here. (The particle
+// moves along the normal only: a tangential relative velocity adds an
+// O(h) term to this measure, x_end x v_end, whichever the lever arm.)
+TEST(RigidSolve, HitFarAlongThePlaneFromWhereTheContactWasFoundConservesMomentum) {
+  xpbd::SceneDesc scene;
+  scene.add_particle(Vec3(0.3, 0.02, 0.1), Real(0.5), 0, Vec3(0, -3, 0));
+  const xpbd::Model m = xpbd::compile(scene);
+  xpbd::State s = xpbd::make_state(m);
+  xpbd::RigidBody b;
+  b.x = Vec3(0, -0.1, 0);
+  b.inv_mass = Real(0.5);
+  b.inv_inertia = Vec3(5, 5, 5);  // isotropic: the body's free spin keeps its angular momentum
+                                   // (predict_bodies has no gyroscopic term)
+  b.q = xpbd::Quat(Eigen::AngleAxis<Real>(Real(0.3), Vec3(1, 2, 3).normalized()));
+  s.bodies.push_back(b);
+  xpbd::BodyContact c;
+  c.particle = 0;
+  c.body = 0;
+  c.r = b.q.conjugate() * Vec3(0.05, 0.1, -0.1);  // 0.25 m from under the particle, in the plane y = 0
+  c.n = b.q.conjugate() * Vec3(0, 1, 0);
+  s.contacts.push_back(c);
+  xpbd::StepConfig cfg;
+  cfg.gravity.setZero();
+  cfg.substeps = 20;
+  cfg.iterations = 2;
+  const Momenta before = momenta(m, s);
+  xpbd::step(m, s, cfg);
+  const Momenta after = momenta(m, s);
+  EXPECT_GT(s.v[0].y(), Real(-2.5));
+  const Real roundoff = Real(1e4) * xpbd::kEpsilon;
+  EXPECT_LT((after.linear - before.linear).norm(), roundoff * before.linear.norm());
+  const Real scale = before.angular.norm() + Real(0.3) * before.linear.norm();
+  EXPECT_LT((after.angular - before.angular).norm(), std::max(Real(1e-5), roundoff) * scale);
+}
+
+// A particle held by the ground under an edge contact's plane (its normal
+// between a box's bottom and side faces), 0.2 m along that plane
+// from the edge, 1 mm inside its band; the body is light about the edge's
+// axis (a long thin bar). The ground holds the particle (joint solve), so
+// the body takes the correction, mostly as a turn about its long axis. The
+// turn moves the plane under the particle through the normal's rotation as
+// well as the edge point's: C's gradient is (x - X) x n, the particle's
+// own lever arm. One projection then leaves C at second order in the turn
+// (measured: -1.7e-6 m after a turn of 8.5e-4 rad). With the lever arm to
+// the edge point the solve misjudges how the turn moves the plane 0.2 m
+// from the edge: C ended at -1.8e-5 m after a tenth of that turn. In the
+// squeeze at 200 substeps, with hundreds of such contacts 1-15 mm deep,
+// that error grew over a substep's sweep until one sweep turned the bar by
+// 0.25 rad (docs/bullet-bridge.md, section 6, item 6).
+TEST(RigidSolve, SpacerFarAlongAnEdgePlaneIsMetAfterOneProjection) {
+  const Real t = Real(0.005);
+  const Vec3 n = Vec3(0, -0.92, 0.38).normalized();    // an edge's normal, body frame = world
+  const Vec3 edge(0, -0.03, 0.03);                     // the edge point, body frame
+  const Vec3 along = Vec3(0, 0.38, 0.92).normalized(); // in the plane, across the edge
+  const Vec3 x = edge + (t - Real(0.001)) * n - Real(0.2) * along;  // 1 mm inside the band
+  xpbd::SceneDesc scene;
+  scene.add_particle(x, Real(1e-3));
+  const xpbd::Model m = xpbd::compile(scene);
+  xpbd::State s = xpbd::make_state(m);
+  xpbd::RigidBody b;  // 2 kg, light about x
+  b.inv_mass = Real(0.5);
+  b.inv_inertia = Vec3(800, 4, 4);
+  s.bodies.push_back(b);
+  xpbd::BodyContact ground;  // the world plane through the particle's band, normal +y
+  ground.particle = 0;
+  ground.body = -1;
+  ground.r = x - t * Vec3::UnitY();
+  ground.n = Vec3::UnitY();
+  ground.thickness = t;
+  xpbd::BodyContact face;
+  face.particle = 0;
+  face.body = 0;
+  face.r = edge;
+  face.n = n;
+  face.thickness = t;
+  s.contacts = {ground, face};
+  xpbd::StepConfig cfg;
+  cfg.gravity.setZero();
+  cfg.substeps = 1;
+  cfg.iterations = 1;
+  xpbd::step(m, s, cfg);
+  const xpbd::RigidBody& a = s.bodies[0];
+  const Real C = (a.q * n).dot(s.x[0] - (a.x + a.q * edge)) - t;
+  const double roundoff = 64 * 0.1 * std::numeric_limits<Real>::epsilon();
+  EXPECT_NEAR(double(s.x[0].y()), double(x.y()), roundoff);  // held by the ground
+  EXPECT_GT(a.q.angularDistance(xpbd::Quat::Identity()), Real(1e-4));  // the body turned
+  EXPECT_NEAR(double(C), 0.0, 5e-6);
+}
+
 TEST(RigidSolve, SlidingOnStaticGroundStopsAtTheCoulombDistance) {
   // A particle sliding at v0 on the static ground (world contact, normal +y)
   // with dynamic friction mu decelerates at mu g: it stops after

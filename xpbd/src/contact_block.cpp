@@ -76,7 +76,7 @@ bool solve_contact_group(const Model& m, State& s, std::size_t head, Real inv_h2
     const BodyContact& c = s.contacts[r.k];
     r.body = &body_or_world(s, c.body);
     r.dynamic = c.body >= 0 && r.body->inv_mass > Real(0);
-    r.f = contact_frame(*r.body, c, c.body < 0);
+    r.f = contact_frame(*r.body, c, c.body < 0, s.x[c.particle]);
     r.rn = r.body->q.conjugate() * r.f.rw.cross(r.f.n);
   }
   const Index p = s.contacts[head].particle;

@@ -146,7 +146,7 @@ void begin_substep(const Model& m, State& s) {
   for (std::size_t k = 0; k < s.contacts.size(); ++k) {
     const BodyContact& c = s.contacts[k];
     const RigidBody& b = body_or_world(s, c.body);
-    const Frame f = contact_frame(b, c, c.body < 0);
+    const Frame f = contact_frame(b, c, c.body < 0, s.x[c.particle]);
     const Vec3 vb = c.body < 0 ? Vec3::Zero() : point_velocity(b, f.rw);
     s.contact_lambda[k] = ContactLambda{Real(0), Real(0), f.n.dot(s.v[c.particle] - vb)};
   }
@@ -201,7 +201,7 @@ void solve_contact_normal(const Model& m, State& s, std::size_t k, Real inv_h2) 
   RigidBody& b = body_or_world(s, c.body);
   const Index p = c.particle;
   const Real wp = m.inv_mass[p];
-  const Frame f = contact_frame(b, c, c.body < 0);
+  const Frame f = contact_frame(b, c, c.body < 0, s.x[p]);
   const Real C = f.n.dot(s.x[p] - f.p) - c.thickness;
   if (C >= Real(0) && l.normal == Real(0)) return;
   const Real wb = inv_mass_along(b, f.rw, f.n);
@@ -228,8 +228,9 @@ void solve_contact_friction(const Model& m, State& s, std::size_t k) {
   const bool world = c.body < 0;
   const Index p = c.particle;
   const Real wp = m.inv_mass[p];
-  const Frame f = contact_frame(b, c, world);
-  const Vec3 pb_prev = world ? f.p : Vec3(b.x_prev + b.q_prev * c.r);
+  const Frame f = contact_frame(b, c, world, s.x[p]);
+  // The body's material point under the particle, at the substep's start.
+  const Vec3 pb_prev = world ? f.p : Vec3(b.x_prev + b.q_prev * (b.q.conjugate() * f.rw));
   const Vec3 rel = (s.x[p] - s.x_prev[p]) - (f.p - pb_prev);
   const Vec3 dt = rel - f.n.dot(rel) * f.n;
   const Real len = dt.norm();
@@ -482,7 +483,7 @@ template <class F>
 void for_each_contact_constraint(const State& s, Real h, F&& f) {
   for (const BodyContact& c : s.contacts) {
     const RigidBody& b = body_or_world(s, c.body);
-    const Frame fr = contact_frame(b, c, c.body < 0);
+    const Frame fr = contact_frame(b, c, c.body < 0, s.x[c.particle]);
     f(fr.n.dot(s.x[c.particle] - fr.p) - c.thickness, c.thickness);
   }
   for (const BodyTriangleContact& c : s.triangle_contacts) {
@@ -544,7 +545,7 @@ void contact_velocities(const Model& m, State& s, Real h, Real gravity_norm) {
     const bool world = c.body < 0;
     const Index p = c.particle;
     const Real wp = m.inv_mass[p];
-    const Frame f = contact_frame(b, c, world);
+    const Frame f = contact_frame(b, c, world, s.x[p]);
     const auto rel_velocity = [&] {
       return Vec3(s.v[p] - (world ? Vec3::Zero() : point_velocity(b, f.rw)));
     };

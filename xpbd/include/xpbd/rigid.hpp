@@ -45,6 +45,9 @@ struct RigidBody {
 // A particle touching the surface of a rigid body, found once per step by the
 // host (speculatively, within a margin) and re-projected every substep:
 //   C = n . (x_p - p_b) - thickness >= 0,  p_b = X + R r,  n = R n_body.
+// The plane through p_b holds the particle; the body is pushed, and its
+// friction taken, at its point of that plane under the particle (the
+// particle moves along the plane during the step; rigid_internal.hpp).
 // body < 0 means the static world: r and n are then world-frame values.
 struct BodyContact {
   Index particle = 0;
