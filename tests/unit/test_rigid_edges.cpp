@@ -2,6 +2,7 @@
 // on hand-placed edges with closed-form answers.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
@@ -45,9 +46,9 @@ EdgeCase make(Real y, Real x0, int body) {
   c.a = Vec3(-1, 0, 0);
   c.b = Vec3(1, 0, 0);
   c.p = {0, 1};
-  // n = (b - a) x (x1 - x0) = (2, 0, 0) x (0, 0, 0.8) = (0, -1.6, 0): the
-  // soft edge above is on its -1 side.
-  c.side = -1;
+  // The soft edge belongs above (n = +-(b - a) x (x1 - x0), the sign that
+  // leans towards out: +y).
+  c.out = Vec3::UnitY();
   c.thickness = Real(0.005);
   s.state.edge_contacts.push_back(c);
   xpbd::rigid::begin_step(s.model, s.state);
@@ -118,6 +119,40 @@ TEST(RigidEdges, ParallelEdgesAreLeftAlone) {
   EXPECT_EQ(s.state.x, before);
 }
 
+// The soft edge turned through parallel with the rigid edge after the
+// contact was made: e_r x e_s turns over, and the push must not. The soft
+// edge, 2 mm above a static edge along x, at 10 degrees either side of z
+// (its closest point at t = 1/4 either way): pushed up to the thickness
+// both times (the closed form of the first test: the weights 3/4 and 1/4).
+// With the sign of e_r x e_s kept from one side, the other was pushed
+// down, through the rigid edge (a cloth over a spinning blade's edge).
+TEST(RigidEdges, SoftEdgeTurnedThroughParallelIsStillPushedOut) {
+  for (const Real deg : {Real(80), Real(100)}) {
+    EdgeCase s = make(Real(0.002), Real(0.2), -1);
+    const Real a = deg * Real(3.14159265358979) / 180;
+    const Vec3 dir(std::cos(a), 0, std::sin(a));  // from x; 90 degrees is the make() edge along z
+    s.state.x[0] = Vec3(Real(0.2), Real(0.002), 0) - Real(0.2) * dir;
+    s.state.x[1] = s.state.x[0] + Real(0.8) * dir;
+    xpbd::rigid::solve_edge_contacts(s.model, s.state, kH);
+    EXPECT_GT(s.state.x[0].y(), Real(0.002)) << deg << " degrees";
+    EXPECT_NEAR(double(0.75 * s.state.x[0].y() + 0.25 * s.state.x[1].y()), 0.005, kTol) << deg << " degrees";
+  }
+}
+
+// A soft edge pointing along `out` has no outside on the rigid edge: left
+// alone. The soft edge in the plane x = 0.2, from 1 mm below to 5 mm above
+// the rigid edge, leaning 10 degrees from +y (n leans about 0.17 towards
+// out, under kEdgeLean).
+TEST(RigidEdges, SoftEdgeAlongTheOutsideIsLeftAlone) {
+  EdgeCase s = make(Real(0.002), Real(0.2), -1);
+  const Real a = Real(10) * Real(3.14159265358979) / 180;
+  s.state.x[0] = Vec3(Real(0.2), Real(-0.001), Real(-0.001) * std::tan(a));
+  s.state.x[1] = Vec3(Real(0.2), Real(0.005), Real(0.005) * std::tan(a));
+  const std::vector<Vec3> before = s.state.x;
+  xpbd::rigid::solve_edge_contacts(s.model, s.state, kH);
+  EXPECT_EQ(s.state.x, before);
+}
+
 // Bad contacts are named by field and index.
 TEST(RigidEdges, BadContactsAreNamed) {
   const auto expect_named = [](const auto& spoil, const std::string& what) {
@@ -131,7 +166,8 @@ TEST(RigidEdges, BadContactsAreNamed) {
     }
   };
   expect_named([](xpbd::BodyEdgeContact& c) { c.p[1] = 7; }, "particle 7 of 2");
-  expect_named([](xpbd::BodyEdgeContact& c) { c.side = 0; }, "side 0");
+  expect_named([](xpbd::BodyEdgeContact& c) { c.out = Vec3::Zero(); }, "out zero");
+  expect_named([](xpbd::BodyEdgeContact& c) { c.out = Vec3(0, 2, 0); }, "out of length 2");
   expect_named([](xpbd::BodyEdgeContact& c) { c.a.x() = std::numeric_limits<Real>::quiet_NaN(); }, "a NaN end");
   expect_named([](xpbd::BodyEdgeContact& c) { c.reach = -1; }, "reach -1");
   expect_named([](xpbd::BodyEdgeContact& c) { c.closing_speed = std::numeric_limits<Real>::infinity(); },

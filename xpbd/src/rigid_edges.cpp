@@ -32,7 +32,10 @@ bool edge_contact_constraint(const State& s, std::size_t k, Real h, Real& C, Vec
   const Real u = (rs * e - ss * d) / n2;  // n2 = rr ss - rs^2
   t = (rr * e - rs * d) / n2;
   if (!(u >= Real(0) && u <= Real(1) && t >= Real(0) && t <= Real(1))) return false;
-  n = (c.side / std::sqrt(n2)) * nn;
+  n = nn / std::sqrt(n2);
+  const Real lean = n.dot(world ? c.out : Vec3(b.q * c.out));
+  if (!(std::abs(lean) >= kEdgeLean)) return false;
+  if (lean < Real(0)) n = -n;
   C = n.dot(P - A) - c.thickness;  // n is normal to both edges
   if (-(C + c.thickness) > c.reach + c.closing_speed * h) return false;
   rw = world ? Vec3::Zero() : Vec3(ra + u * er);

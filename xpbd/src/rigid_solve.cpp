@@ -79,9 +79,9 @@ void begin_step(const Model& m, State& s) {
     for (Index p : c.p) check_index(m, s, "edge_contacts", k, p, c.body);
     if (!c.a.allFinite() || !c.b.allFinite() || !(c.reach >= Real(0)) || !(c.closing_speed >= Real(0)) ||
         !std::isfinite(c.closing_speed) || !std::isfinite(c.thickness) || c.thickness < Real(0) ||
-        !(std::abs(c.side) == Real(1)))
+        !c.out.allFinite() || !(std::abs(c.out.squaredNorm() - Real(1)) <= Real(1e-3)))
       throw ConfigError("state.edge_contacts[" + std::to_string(k) +
-                        "]: a, b must be finite, side +1 or -1, thickness finite and >= 0, reach >= 0 (or "
+                        "]: a, b must be finite, out a unit vector, thickness finite and >= 0, reach >= 0 (or "
                         "infinity) and closing_speed finite and >= 0");
   }
   build_contact_chains(m, s);

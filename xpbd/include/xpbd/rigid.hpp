@@ -114,21 +114,28 @@ struct BodyTriangleContact {
 // where a cloth folded tight over the body's edge has no face for the
 // edge's feature points to meet. With e_r = b - a, e_s = x1 - x0 (world)
 // and u, t the parameters of the two lines' closest points:
-//   C = side n.(x_s(t) - x_r(u)) - thickness >= 0,
-//   n = e_r x e_s / |e_r x e_s|,
-// side: the side of the rigid edge the soft edge belongs on (the Bullet
-// bridge takes the box edge's outside, docs/feature-contacts.md, "Edge
-// against edge"). The soft edge takes (1 - t) and t of the push; the body
-// its share through its inverse mass along n at x_r(u). It acts while both
+//   C = n.(x_s(t) - x_r(u)) - thickness >= 0,
+//   n = +-e_r x e_s / |e_r x e_s|, the sign that leans towards `out`,
+// out: the direction from the rigid edge the soft edge belongs on (the
+// Bullet bridge takes the outward bisector of the box edge's two faces,
+// docs/feature-contacts.md, "Edge against edge"). The sign is taken again
+// at every evaluation: e_r x e_s turns over as the two edges pass parallel
+// (a soft edge lying across a spinning blade's edge does so every half
+// turn), and a sign kept from the start of the step then pushed the soft
+// edge into the body. While n leans less than kEdgeLean towards out (the
+// soft edge points along out, and has no outside there) the contact does
+// not act. The soft edge takes (1 - t) and t of the push; the body its
+// share through its inverse mass along n at x_r(u). It acts while both
 // closest points lie on their edges (u and t in [0, 1]; past an end the
 // feature points and the particle contacts answer), the edges are more
 // than about a degree from parallel, and within its reach (as
 // BodyTriangleContact). No friction.
+inline constexpr Real kEdgeLean = Real(0.25);  // cosine
 struct BodyEdgeContact {
   Index body = -1;                     // index into State::bodies (-1 = static world edge)
   Vec3 a = Vec3::Zero(), b = Vec3::Zero();  // m, the rigid edge's ends, body frame (world if body < 0)
   std::array<Index, 2> p{};            // the soft edge's particles
-  Real side = 1;                       // +1 or -1
+  Vec3 out = Vec3::UnitY();            // unit, body frame (world if body < 0)
   Real thickness = 0;                  // m
   Real reach = std::numeric_limits<Real>::infinity();  // m, >= 0 (BodyTriangleContact::reach)
   Real closing_speed = 0;              // m/s, >= 0 and finite
