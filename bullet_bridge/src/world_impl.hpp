@@ -78,8 +78,8 @@ void add_moving_candidates(btCollisionWorld& world, const Vec3& lo, const Vec3& 
 // than `spacing` apart (if `edges`), the vertices of other polyhedral
 // shapes (hulls), recursively for compounds. Smooth shapes (sphere,
 // capsule, cylinder, cone) and meshes have none. centres (if given) gets,
-// for each feature, the centre of the convex shape it belongs to (the
-// frame's origin of a compound's child). world_triangle_contacts.cpp.
+// for each feature, a point inside the convex shape it belongs to (the
+// mean of its vertices; a compound's child's own). world_triangle_contacts.cpp.
 void collect_features(const btCollisionShape& shape, const btTransform& t, Real spacing, std::vector<Vec3>& out,
                       bool edges = true, std::vector<Vec3>* centres = nullptr);
 
@@ -197,7 +197,7 @@ struct XpbdWorld::CandidateContacts {
 // One thread's scratch of the feature-triangle search, reused across steps.
 struct XpbdWorld::FeatureScratch {
   std::vector<Vec3> features;                  // a body's feature points (body frame)
-  std::vector<Vec3> centres;                   // each feature's shape centre (body frame)
+  std::vector<Vec3> centres;                   // a point inside each feature's shape (body frame)
   std::vector<std::array<Vec3, 3>> mesh_tris;  // a mesh's triangles near the system
   std::vector<Vec3> feature_at;                // the features at the step's start (world)
   std::vector<Real> feature_travel;            // and how far each can move over the step

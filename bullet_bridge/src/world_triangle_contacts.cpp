@@ -123,11 +123,15 @@ void collect_features(const btCollisionShape& shape, const btTransform& t, Real 
   }
   if (!shape.isPolyhedral()) return;
   const auto& p = static_cast<const btPolyhedralConvexShape&>(shape);
+  const std::size_t first = out.size();
+  Vec3 mean = Vec3::Zero();  // of the vertices: inside the convex shape (its origin need not be)
   for (int i = 0; i < p.getNumVertices(); ++i) {
     btVector3 v;
     p.getVertex(i, v);
     out.push_back(to_vec(t * v));
+    mean += out.back();
   }
+  if (out.size() > first) mean /= Real(out.size() - first);
   if (edges && shape.getShapeType() == BOX_SHAPE_PROXYTYPE) {
     for (int i = 0; i < p.getNumEdges(); ++i) {
       btVector3 a, b;
@@ -137,7 +141,7 @@ void collect_features(const btCollisionShape& shape, const btTransform& t, Real 
       for (int k = 1; k < pieces; ++k) out.push_back(pa + (Real(k) / Real(pieces)) * (pb - pa));
     }
   }
-  if (centres != nullptr) centres->resize(out.size(), to_vec(t.getOrigin()));
+  if (centres != nullptr) centres->resize(out.size(), mean);
 }
 
 }  // namespace detail
@@ -297,8 +301,8 @@ void XpbdWorld::triangle_contacts_of(const System& s, std::size_t k, btScalar dt
   // Feature at q0 (start of the step) that may travel `travel`, against
   // triangle t, whose grown swept box it reaches (the caller tests that,
   // `outside`): the exact tests, then the contact. path: the feature's
-  // path (pieces + 1 points) when it is fast, else null; centre: its
-  // shape's centre, read only with a path.
+  // path (pieces + 1 points) when it is fast, else null; centre: a point
+  // inside its shape (its vertices' mean; NaN for a mesh).
   auto try_triangle = [&](const Vec3& local, const Vec3& q0, Real travel, std::size_t t, const Vec3* path,
                           const Vec3& centre) {
     // At most kFeatureTriangles contacts per feature and step (the first
@@ -328,11 +332,16 @@ void XpbdWorld::triangle_contacts_of(const System& s, std::size_t k, btScalar dt
     for (Index p : tri) move = std::max(move, dt * ((st.v[p] - vb).norm() + ab));
     Real side = dist >= Real(0) ? Real(1) : Real(-1);
     bool swept = false;
-    if (over && path != nullptr && std::abs(dist) <= thick && centre.allFinite()) {
-      // A fast feature found over the triangle, near it: it belongs on the
-      // side of its shape's centre. On the other side it has gone through
-      // (a thin blade's edge through a cloth it sweeps under), and the
-      // contact pushes the triangle back over it, not on through.
+    if (over && std::abs(dist) <= thick && centre.allFinite()) {
+      // A feature found over the triangle, within the band: it belongs on
+      // the side of its shape's centre. On the other side it has gone
+      // through (a thin blade's edge through a cloth it sweeps under, or a
+      // corner through a face in an earlier step), and the contact pushes
+      // the triangle back over it, not on through. (The centre and the
+      // feature on two sides of the plane, the feature within the band
+      // over the triangle: the triangle cuts the convex shape between the
+      // two, in all but very oblique cases.) Farther than the band, the
+      // side the feature is on holds. A mesh's features have no centre.
       side = (centre - x1).dot(nn) >= Real(0) ? Real(1) : Real(-1);
     }
     if (!over || std::abs(dist) > thick + cs.margin + move) {
@@ -426,8 +435,8 @@ void XpbdWorld::triangle_contacts_of(const System& s, std::size_t k, btScalar dt
     if ((q0.array() + travel < lo.array()).any() || (q0.array() - travel > hi.array()).any())
       continue;
     const Vec3* path = nullptr;
-    // Read only with a path (try_triangle).
-    const Vec3 centre = path_tf.empty() ? Vec3::Zero() : to_vec(start * to_bt(centres[i]));
+    // The feature's shape's centre at the start of the step (NaN for a mesh).
+    const Vec3 centre = centres[i].allFinite() ? to_vec(start * to_bt(centres[i])) : centres[i];
     if (!path_tf.empty() && travel > fast_from) {
       path_lo = Vec3::Constant(std::numeric_limits<Real>::max());
       path_hi = -path_lo;
