@@ -69,7 +69,7 @@ inline const RigidBody& body_or_world(const State& s, Index b) {
 // plane under the particle: particles 20 cm along an edge contact's plane
 // from the edge, held by the ground under them, turned a bar about its
 // long axis by 0.25 rad in one sweep and threw it off the cloth at 143 m/s
-// (the squeeze at 200 substeps; docs/bullet-bridge.md, section 6, item 6).
+// (the squeeze at 200 substeps; docs/squeeze.md).
 // The pushes on the particle and on the body then also act along one line,
 // so the solve conserves angular momentum.
 struct Frame {
