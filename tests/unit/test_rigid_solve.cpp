@@ -45,23 +45,32 @@ Momenta momenta(const xpbd::Model& m, const xpbd::State& s) {
   return p;
 }
 
-TEST(RigidSolve, OffCentreHitConservesLinearAndAngularMomentum) {
-  // A 0.5 kg particle moving at 3 m/s along -y hits a 2 kg body off its
-  // centre of mass: contact point 0.3 m from the centre along x, normal +y.
+// A 0.5 kg particle at x moving at 3 m/s along -y hits a 2 kg body at
+// (0, -0.1, 0) turned by q, with inverse inertia inv_inertia (principal
+// axes of its frame); the contact was found at world point r_world, normal
+// +y. 20 substeps x 2 iterations, no gravity. Checks that the contact
+// acted (the particle was stopped) and that momentum is exchanged, not
+// created. Linear: equal and opposite position corrections, so round-off.
+// Angular: the body's rotation is updated with the first-order quaternion
+// step q += h/2 [w, 0] q and w is recovered from the quaternion change,
+// which are exact only to O((w h)^2) per substep (here w h ~ 1e-3): allow
+// 1e-5 relative. A wrong lever arm or sign gives an O(1) error. Round-off
+// allowance 1e4 eps covers the float build (label unit runs there).
+void expect_hit_keeps_momentum(const Vec3& x, const xpbd::Quat& q, const Vec3& inv_inertia, const Vec3& r_world) {
   xpbd::SceneDesc scene;
-  scene.add_particle(Vec3(0.3, 0.02, 0), Real(0.5), 0, Vec3(0, -3, 0));
+  scene.add_particle(x, Real(0.5), 0, Vec3(0, -3, 0));
   const xpbd::Model m = xpbd::compile(scene);
   xpbd::State s = xpbd::make_state(m);
   xpbd::RigidBody b;
   b.x = Vec3(0, -0.1, 0);
   b.inv_mass = Real(0.5);
-  b.inv_inertia = Vec3(6, 4, 5);  // 1/(kg m^2), principal axes = world axes
-  b.q = xpbd::Quat(Eigen::AngleAxis<Real>(Real(0.3), Vec3(0, 0, 1).normalized()));
+  b.inv_inertia = inv_inertia;
+  b.q = q;
   s.bodies.push_back(b);
   xpbd::BodyContact c;
   c.particle = 0;
   c.body = 0;
-  c.r = b.q.conjugate() * Vec3(0.3, 0.1, 0);  // body frame
+  c.r = b.q.conjugate() * (r_world - b.x);  // body frame
   c.n = b.q.conjugate() * Vec3(0, 1, 0);
   s.contacts.push_back(c);
   xpbd::StepConfig cfg;
@@ -71,20 +80,19 @@ TEST(RigidSolve, OffCentreHitConservesLinearAndAngularMomentum) {
   const Momenta before = momenta(m, s);
   xpbd::step(m, s, cfg);
   const Momenta after = momenta(m, s);
-  // The particle was stopped (the contact acted) ...
   EXPECT_GT(s.v[0].y(), Real(-2.5));
   EXPECT_GT(s.bodies[0].w.norm(), Real(0.1));
-  // ... and momentum is exchanged, not created. Linear: equal and opposite
-  // position corrections, so round-off. Angular: the body's rotation is
-  // updated with the first-order quaternion step q += h/2 [w, 0] q and w is
-  // recovered from the quaternion change, which are exact only to
-  // O((w h)^2) per substep (here w h ~ 1e-3): allow 1e-5 relative. A wrong
-  // lever arm or sign gives an O(1) error.
-  // Round-off allowance 1e4 eps covers the float build (label unit runs there).
   const Real roundoff = Real(1e4) * xpbd::kEpsilon;
   EXPECT_LT((after.linear - before.linear).norm(), roundoff * before.linear.norm());
   const Real scale = before.angular.norm() + Real(0.3) * before.linear.norm();
   EXPECT_LT((after.angular - before.angular).norm(), std::max(Real(1e-5), roundoff) * scale);
+}
+
+// Off the body's centre of mass: the contact point 0.3 m from the centre
+// along x, under the particle.
+TEST(RigidSolve, OffCentreHitConservesLinearAndAngularMomentum) {
+  expect_hit_keeps_momentum(Vec3(0.3, 0.02, 0), xpbd::Quat(Eigen::AngleAxis<Real>(Real(0.3), Vec3::UnitZ())),
+                            Vec3(6, 4, 5), Vec3(0.3, 0, 0));
 }
 
 // The same hit, with the particle 0.25 m along the contact's plane from
@@ -94,37 +102,12 @@ TEST(RigidSolve, OffCentreHitConservesLinearAndAngularMomentum) {
 // momentum is conserved as above. With the push at c.r the angular
 // momentum changes by (x - p) x (push), an O(1) error here. (The particle
 // moves along the normal only: a tangential relative velocity adds an
-// O(h) term to this measure, x_end x v_end, whichever the lever arm.)
+// O(h) term to this measure, x_end x v_end, whichever the lever arm. The
+// body is isotropic: predict_bodies has no gyroscopic term, so a free spin
+// keeps its angular momentum only then.)
 TEST(RigidSolve, HitFarAlongThePlaneFromWhereTheContactWasFoundConservesMomentum) {
-  xpbd::SceneDesc scene;
-  scene.add_particle(Vec3(0.3, 0.02, 0.1), Real(0.5), 0, Vec3(0, -3, 0));
-  const xpbd::Model m = xpbd::compile(scene);
-  xpbd::State s = xpbd::make_state(m);
-  xpbd::RigidBody b;
-  b.x = Vec3(0, -0.1, 0);
-  b.inv_mass = Real(0.5);
-  b.inv_inertia = Vec3(5, 5, 5);  // isotropic: the body's free spin keeps its angular momentum
-                                   // (predict_bodies has no gyroscopic term)
-  b.q = xpbd::Quat(Eigen::AngleAxis<Real>(Real(0.3), Vec3(1, 2, 3).normalized()));
-  s.bodies.push_back(b);
-  xpbd::BodyContact c;
-  c.particle = 0;
-  c.body = 0;
-  c.r = b.q.conjugate() * Vec3(0.05, 0.1, -0.1);  // 0.25 m from under the particle, in the plane y = 0
-  c.n = b.q.conjugate() * Vec3(0, 1, 0);
-  s.contacts.push_back(c);
-  xpbd::StepConfig cfg;
-  cfg.gravity.setZero();
-  cfg.substeps = 20;
-  cfg.iterations = 2;
-  const Momenta before = momenta(m, s);
-  xpbd::step(m, s, cfg);
-  const Momenta after = momenta(m, s);
-  EXPECT_GT(s.v[0].y(), Real(-2.5));
-  const Real roundoff = Real(1e4) * xpbd::kEpsilon;
-  EXPECT_LT((after.linear - before.linear).norm(), roundoff * before.linear.norm());
-  const Real scale = before.angular.norm() + Real(0.3) * before.linear.norm();
-  EXPECT_LT((after.angular - before.angular).norm(), std::max(Real(1e-5), roundoff) * scale);
+  const xpbd::Quat q(Eigen::AngleAxis<Real>(Real(0.3), Vec3(1, 2, 3).normalized()));
+  expect_hit_keeps_momentum(Vec3(0.3, 0.02, 0.1), q, Vec3(5, 5, 5), Vec3(0.05, 0, -0.1));
 }
 
 // A particle held by the ground under an edge contact's plane (its normal
