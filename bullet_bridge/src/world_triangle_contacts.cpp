@@ -435,7 +435,7 @@ void XpbdWorld::triangle_contacts_of(const System& s, std::size_t k, btScalar dt
     if ((q0.array() + travel < lo.array()).any() || (q0.array() - travel > hi.array()).any())
       continue;
     const Vec3* path = nullptr;
-    // The feature's shape's centre at the start of the step (NaN for a mesh).
+    // A point inside the feature's shape at the start of the step (NaN for a mesh).
     const Vec3 centre = centres[i].allFinite() ? to_vec(start * to_bt(centres[i])) : centres[i];
     if (!path_tf.empty() && travel > fast_from) {
       path_lo = Vec3::Constant(std::numeric_limits<Real>::max());
