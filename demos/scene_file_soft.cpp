@@ -185,6 +185,7 @@ SoftContactSpec read_contacts(const Ctx& c, const json& v, const std::string& pa
   non_negative(c, s.compliance, o.at("compliance"));
   o.real("feature_spacing", s.feature_spacing);
   positive(c, s.feature_spacing, o.at("feature_spacing"));
+  o.boolean("wedges", s.wedges);
   return s;
 }
 

@@ -219,7 +219,8 @@ json out_soft(const SoftSpec& soft) {
                    {"dynamic_friction", out_real(c.dynamic_friction)},
                    {"restitution", out_real(c.restitution)},
                    {"compliance", out_real(c.compliance)},
-                   {"feature_spacing", out_real(c.feature_spacing)}};
+                   {"feature_spacing", out_real(c.feature_spacing)},
+                   {"wedges", c.wedges}};
   return j;
 }
 

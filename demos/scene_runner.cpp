@@ -417,7 +417,8 @@ RunResult run_scene(const SceneSpec& spec, const ExpandedSoft& soft, const RunOp
                            {"dynamic_friction", double(c.dynamic_friction)},
                            {"restitution", double(c.restitution)},
                            {"compliance", double(c.compliance)},
-                           {"feature_spacing", double(c.feature_spacing)}}},
+                           {"feature_spacing", double(c.feature_spacing)},
+                           {"wedges", c.wedges}}},
                          {"attachments", spec.attachments.size()}};
   }
   r.projections_per_frame = sim->projections_per_frame();

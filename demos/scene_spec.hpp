@@ -86,6 +86,7 @@ struct SoftContactSpec {
   xpbd::Real restitution = 0;                    // in [0, 1], combined by product
   xpbd::Real compliance = 0;                     // m/N, >= 0
   xpbd::Real feature_spacing = xpbd::Real(0.01); // m, > 0: box-edge sample spacing vs triangles
+  bool wedges = true;  // xpbd_bullet::ContactSettings::wedges (XPBD and PBD)
 };
 
 // An OBJ file (path relative to the scene file's directory) turned into a

@@ -95,6 +95,7 @@ class XpbdSim : public SoftSim {
     s.contacts.restitution = c.restitution;
     s.contacts.compliance = c.compliance;
     s.contacts.feature_spacing = c.feature_spacing;
+    s.contacts.wedges = c.wedges;
     s.tolerance.strain = opt.tolerance;
     s.tolerance.penetration = opt.penetration_tolerance;
     s.tolerance.max_substeps = opt.max_substeps;

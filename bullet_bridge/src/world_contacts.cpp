@@ -370,14 +370,17 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
   // With a tolerance, the controller's count (SystemSettings::tolerance).
   const Tolerance& tol = set.tolerance;
   const bool target = tol.on();
-  if (target && s.tol_substeps <= 0) s.tol_substeps = std::clamp(set.substeps, 1, set.tolerance.max_substeps);
+  // The count's range: from 1 with the strain target, which measures the
+  // whole solve; from `substeps` with the contact target alone, which says
+  // nothing about the rest of the solve and only raises the count.
+  const int floor = tol.strain > 0 ? 1 : set.substeps;
+  const int top = std::max(tol.max_substeps, floor);
+  if (target && s.tol_substeps <= 0) s.tol_substeps = std::clamp(set.substeps, floor, top);
   int subs = target ? s.tol_substeps : set.substeps;
   // The most this step may take: kTolRise times the last step's count (a
   // sudden rise turns the constraint error the step starts with into
   // velocity at the new, shorter substep).
-  const int cap = target ? std::min(set.tolerance.max_substeps,
-                                    std::max(subs + 1, int(std::ceil(kTolRise * double(subs)))))
-                         : subs;
+  const int cap = target ? std::min(top, std::max(subs + 1, int(std::ceil(kTolRise * double(subs))))) : subs;
   cfg.iterations = set.iterations;
   cfg.method = set.method;
   cfg.drag = set.drag;
@@ -450,7 +453,7 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
     // least one). The largest over the steps, not the last: a scene that
     // rings (a heavy end bouncing on its chain) has low and high steps.
     s.tol_window_max = std::max(s.tol_window_max, error);
-    const int need = std::max(1, std::min(subs, substeps_for(subs, s.tol_window_max, kTolAimDown, 1)));
+    const int need = std::max(floor, std::min(subs, substeps_for(subs, s.tol_window_max, kTolAimDown, 1)));
     if (need >= subs) {
       s.tol_calm = 0;
       s.tol_window_max = 0;

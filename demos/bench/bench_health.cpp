@@ -1,4 +1,5 @@
-// The cost of the bridge's divergence checks (SystemSettings::check_health).
+// The cost of the bridge's divergence checks (SystemSettings::check_health)
+// and of its default contact target (SystemSettings::tolerance.penetration).
 //
 // Scene: a 64 x 64 cloth (1 m, 1 kg, pinned at two corners, edges 1e-8 m/N)
 // hanging in a btDiscreteDynamicsWorld with no other body, 60 Hz, the
@@ -6,8 +7,18 @@
 // one stepSimulation call (one internal step), after 60 steps of swinging:
 //   world_step/checks:0   check_health = false;
 //   world_step/checks:1   check_health = true (the default).
-// Compare the two within one run (the machine is shared): the checks' cost
-// is checks:1 / checks:0 - 1. docs/benchmarks.md runs it as
+// Both with the contact target off. Then the same cloth draped over a
+// static box (0.6 x 0.2 x 0.6 m, its top 0.2 m under the cloth's start;
+// about 3,200 particle contacts per step) at the defaults but for the
+// contact target:
+//   draped_step/target:0  tolerance.penetration = 0 (a fixed 10 substeps);
+//   draped_step/target:1  tolerance.penetration = 5 mm (the default): one
+//                         copy of the state and one pass over the contacts
+//                         per step, and no step solved again (the drape is
+//                         within 5 mm at 10 substeps).
+// Compare within one run (the machine is shared): the checks' cost is
+// checks:1 / checks:0 - 1, the target's target:1 / target:0 - 1.
+// docs/benchmarks.md runs it as
 //   bench_health --benchmark_enable_random_interleaving=true
 //                --benchmark_repetitions=10 --benchmark_min_time=0.2
 #include <benchmark/benchmark.h>
@@ -26,10 +37,21 @@ struct Scene {
   btDbvtBroadphase broadphase;
   btSequentialImpulseConstraintSolver solver;
   btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &config};
+  btBoxShape box_shape{btVector3(btScalar(0.3), btScalar(0.1), btScalar(0.3))};
+  std::unique_ptr<btRigidBody> box;
   std::unique_ptr<xpbd_bullet::XpbdWorld> xw;
+  xpbd_bullet::SystemId id;
 
-  explicit Scene(bool checks) {
+  // box: the draped variant (the static box under the cloth, no pins).
+  Scene(bool checks, bool target, bool with_box) {
     world.setGravity(btVector3(0, btScalar(-9.81), 0));
+    if (with_box) {
+      btRigidBody::btRigidBodyConstructionInfo info(0, nullptr, &box_shape);
+      info.m_startWorldTransform.setIdentity();
+      info.m_startWorldTransform.setOrigin(btVector3(0, btScalar(-0.3), btScalar(0.5)));
+      box = std::make_unique<btRigidBody>(info);
+      world.addRigidBody(box.get());
+    }
     xw = std::make_unique<xpbd_bullet::XpbdWorld>(world);
     xpbd::SceneDesc scene;
     xpbd::ClothGridDesc c;
@@ -38,22 +60,40 @@ struct Scene {
     c.u = xpbd::Vec3::UnitX();
     c.v = xpbd::Vec3::UnitZ();
     c.stretch = c.shear_mat = c.bend_mat = xpbd::Material{xpbd::Real(1e-8), 0, 1};
-    c.pinned = {{0, 0}, {63, 0}};
+    if (!with_box) c.pinned = {{0, 0}, {63, 0}};
     xpbd::add_cloth_grid(scene, c);
     auto model = std::make_shared<const xpbd::Model>(xpbd::compile(scene));
     xpbd_bullet::SystemSettings set;
     set.check_health = checks;
-    xw->add_system(model, xpbd::make_state(*model), set);
+    if (!target) set.tolerance.penetration = 0;
+    id = xw->add_system(model, xpbd::make_state(*model), set);
     for (int f = 0; f < 60; ++f) step();
+  }
+  ~Scene() {
+    xw.reset();
+    if (box) world.removeRigidBody(box.get());
   }
   void step() { world.stepSimulation(btScalar(1) / 60, 1, btScalar(1) / 60); }
 };
 
 void world_step(benchmark::State& state) {
-  Scene s(state.range(0) != 0);
+  Scene s(state.range(0) != 0, false, false);
   for (auto _ : state) s.step();
 }
 BENCHMARK(world_step)->Arg(0)->Arg(1)->ArgName("checks");
+
+void draped_step(benchmark::State& state) {
+  Scene s(true, state.range(0) != 0, true);
+  int resolved = 0, contacts = 0;
+  for (auto _ : state) {
+    s.step();
+    resolved += s.xw->last_stats().resolved;
+    contacts = int(s.xw->state(s.id).contacts.size());
+  }
+  state.counters["resolved"] = resolved;
+  state.counters["contacts"] = contacts;
+}
+BENCHMARK(draped_step)->Arg(0)->Arg(1)->ArgName("target");
 
 }  // namespace
 

@@ -36,10 +36,12 @@ struct Case {
 // Recorded 2026-11-26 (gcc 12.2, Bullet 3.24, Debian 12, x86-64): 60 frames
 // of each scene at its own budget. cloth_on_sphere with XPBD again on
 // 2026-11-28: a particle contact's push and friction act at the body's
-// point under the particle (xpbd/src/rigid_internal.hpp, contact_frame).
+// point under the particle (xpbd/src/rigid_internal.hpp, contact_frame);
+// and again later that day: the settle pass moves a dynamic body out of a
+// particle it cannot put outside every body (ContactSettings::wedges).
 constexpr Case kExpected[] = {
     {"rope_pendulum", Solver::xpbd, 0xa4c96494125d45a3, 0x1cc7f83457447a3f},
-    {"cloth_on_sphere", Solver::xpbd, 0x27d7281bbdc9731e, 0xce8d50dc38653ea2},
+    {"cloth_on_sphere", Solver::xpbd, 0x68ee6cf98a44d8e0, 0x1ebcb93662eafcce},
     {"hanging_cloth", Solver::pbd, 0xf2e27dbbc7fc99f0, 0xb7c7432aaa144ebb},
     {"cloth_on_sphere", Solver::bullet, 0xdfcdce1c1315d944, 0xc4a6aada6e873e7a},
 };

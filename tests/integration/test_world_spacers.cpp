@@ -44,7 +44,7 @@ struct Outcome {
   Real speed = 0;        // m/s, the far coupled box's speed at the end
 };
 
-Outcome run(bool spacers) {
+Outcome run(bool spacers, bool wedges) {
   BulletWorld bw(Vec3::Zero());
   const Vec3 near_at(0, Real(0.3), -kHalf - kGap), far_at(0, Real(0.3), kHalf + kGap);
   btRigidBody* near = bw.add_body(new btBoxShape(btVector3(kHalf, kHalf, kHalf)), 1, BulletWorld::at(near_at));
@@ -70,6 +70,7 @@ Outcome run(bool spacers) {
   System sys = make_system(scene);
   SystemSettings set;
   set.contacts.spacers = spacers;
+  set.contacts.wedges = wedges;
   const xpbd_bullet::SystemId id = xw.add_system(sys.model, sys.state, set);
   Outcome r;
   for (int f = 0; f < kFrames; ++f) {
@@ -91,7 +92,9 @@ Outcome run(bool spacers) {
 
 TEST(Spacers, ClothBetweenTwoBodiesThatBulletPushesTogether) {
   const Real thickness = xpbd_bullet::ContactSettings{}.thickness;
-  const Outcome on = run(true), off = run(false);
+  // Wedges off in both (ContactSettings::wedges moves a box out of the
+  // cloth after Bullet's solve; WedgesAloneKeepTheClothOutOfBoth below).
+  const Outcome on = run(true, false), off = run(false, false);
   std::printf("cloth between two boxes, one driven at %.3g m/s: smallest gap between the boxes %.4g m "
               "(spacers) / %.4g m (none), twice the thickness %.3g m; deepest particle centre in a box %.4g m "
               "/ %.4g m; %d spacer points; far box at %.3g / %.3g m/s\n",
@@ -112,6 +115,25 @@ TEST(Spacers, ClothBetweenTwoBodiesThatBulletPushesTogether) {
   EXPECT_GT(on.spacers, 0);
   EXPECT_GE(on.closest, thickness);
   EXPECT_LE(on.deepest, Real(0));
+}
+
+// Without spacers, with ContactSettings::wedges (the default): the settle
+// pass cannot put the particles outside both boxes that Bullet pushed
+// together, and moves the boxes out of them instead. Closed form: the
+// cloth is one layer of particles of radius 0 kept a thickness t from
+// each face, so the boxes end no closer than 2 t (to round-off), and no
+// particle centre is inside either. The motor's push still reaches the far
+// box.
+TEST(Spacers, WedgesAloneKeepTheClothOutOfBoth) {
+  const Real thickness = xpbd_bullet::ContactSettings{}.thickness;
+  const Outcome r = run(false, true);
+  std::printf("wedges without spacers: smallest gap %.6g m (2 t = %.3g m), deepest particle centre %.3g m, far "
+              "box at %.3g m/s\n",
+              double(r.closest), double(2 * thickness), double(r.deepest), double(r.speed));
+  EXPECT_EQ(r.spacers, 0);
+  EXPECT_GE(r.closest, 2 * thickness - Real(1e-6));
+  EXPECT_LE(r.deepest, Real(0));
+  EXPECT_GT(r.speed, Real(1));
 }
 
 }  // namespace XPBD_TEST_FILE_ID

@@ -90,10 +90,18 @@ struct ContactSettings {
   // closer to the body than the contact's thickness (radius plus
   // `thickness`) is moved along the surface normal to it, then likewise
   // for static and kinematic bodies. A position projection of the
-  // particles alone: velocities and bodies are unchanged. A particle
-  // squeezed between two bodies that Bullet pushed together can stay
-  // inside one of them (docs/bullet-bridge.md).
+  // particles alone: velocities and bodies are unchanged, but for `wedges`.
   bool settle = true;
+  // With settle: a particle that the settle pass cannot put outside every
+  // body (squeezed between two that Bullet pushed together, or between a
+  // heavy body and the ground at a budget that did not converge the
+  // mass ratio) moves the dynamic body out instead, by translation along
+  // the surface normal at the particle, at most two contact thicknesses
+  // per step: the cloth between them is the rigid spacer that XPBD
+  // solved. A position correction only, as Bullet's split impulse makes
+  // (velocities are unchanged). false: such a particle stays inside the
+  // body (docs/bullet-bridge.md).
+  bool wedges = true;
   // Make the cloth between two bodies visible to Bullet's solver: for each
   // particle with contacts with two bodies on opposite sides of it in the
   // step (one of them dynamic), a contact point between the two bodies is
@@ -133,7 +141,16 @@ struct SystemTimes {
 // system picks its substeps step by step so that its largest Distance strain
 // |len/rest - 1| after the step stays within `strain`, and its deepest
 // contact violation within `penetration`, at the least count it finds,
-// within [1, max_substeps]. Either or both may be set. Rule
+// within [1, max_substeps] with the strain target and within [substeps,
+// max(substeps, max_substeps)] with the contact target alone (depth says
+// nothing about the rest of the solve, so it only raises the count).
+// Either or both may be set. The contact target is on by default, at 5 mm
+// (the default contact thickness): a step that leaves a particle deeper
+// than that inside its contact band (a light cloth under a heavy body) is
+// solved again with more substeps, and a step that does not costs one copy
+// of the state and one pass over its contacts (docs/tolerance.md,
+// "The default contact target"). Set penetration = 0 for a fixed budget.
+// Rule
 // (docs/tolerance.md), with e the larger of strain / tolerance.strain and
 // penetration / tolerance.penetration (the targets that are set):
 //   - after the step's solve (before Bullet's), e is measured: the strain
@@ -161,9 +178,10 @@ struct SystemTimes {
 // missed at max_substeps.
 struct Tolerance {
   double strain = 0;       // 1, > 0 turns the strain target on; 0 = off
-  double penetration = 0;  // m, > 0 turns the contact target on; 0 = off
+  double penetration = 0.005;  // m, > 0 turns the contact target on (the default); 0 = off
   int max_substeps = 200;  // >= 1: the most substeps the system may take in one step
-  // With neither target on, SystemSettings::substeps is fixed.
+  // With neither target on (strain = penetration = 0),
+  // SystemSettings::substeps is fixed.
   bool on() const { return strain > 0 || penetration > 0; }
 };
 

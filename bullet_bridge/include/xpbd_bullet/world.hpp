@@ -124,6 +124,10 @@ struct StepStats {
   // Particles moved by the settle pass after Bullet's integration
   // (ContactSettings::settle), summed over systems.
   int settled = 0;
+  // Bodies moved out of a particle in a wedge by the settle pass (step 5
+  // of world_settle.cpp: Bullet's solver pushed two bodies together over
+  // the cloth), summed over contacts and systems.
+  int wedges = 0;
   // Contact points added to Bullet between two bodies with cloth between
   // them (ContactSettings::spacers), summed over systems.
   int spacers = 0;

@@ -156,6 +156,7 @@ inline SceneSpec round_trip(const SceneSpec& s) {
   EXPECT_EQ(c1.restitution, c0.restitution);
   EXPECT_EQ(c1.compliance, c0.compliance);
   EXPECT_EQ(c1.feature_spacing, c0.feature_spacing);
+  EXPECT_EQ(c1.wedges, c0.wedges);
   EXPECT_EQ(back.soft.generators.size(), s.soft.generators.size());
 
   const ExpandedSoft e0 = expand(s.soft, s.base_dir), e1 = expand(back.soft, back.base_dir);
