@@ -80,7 +80,9 @@ struct StepConfig {
   // calling thread. With XPBD the DihedralBending and Tether elements too
   // are swept colour by colour (Model::dihedral_colours, tether_colours)
   // over their compiled forms (dihedral_stream.hpp, distance_stream.hpp;
-  // AVX2 where the CPU has it). Off by default. Every other type keeps the
+  // AVX2 where the CPU has it). Off by default: ahead per unit time on free
+  // cloths and chains, but worse in depth where a heavy body squeezes cloth
+  // (docs/benchmarks.md, "The switch tried, and not made"). Every other type keeps the
   // array order. This is a different Gauss-Seidel order, so the result
   // differs from the array order's (both converge to the same solution, at
   // different rates). With alternate_sweeps, the reversed sweeps visit the
