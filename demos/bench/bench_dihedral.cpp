@@ -21,9 +21,10 @@
 //   stream_sweep   xpbd::project_dihedral_stream, what step() runs with
 //                  StepConfig::coloured in XPBD: the compiled hinge stream
 //                  in the model's colour order with the widest kernel of
-//                  this CPU (simd_kernel(): AVX2, 4 doubles or 8 floats a
-//                  time), including the copies of the particles into
-//                  records and back;
+//                  this CPU (simd_kernel(): AVX-512, 8 doubles or 16
+//                  floats a time, or AVX2, 4 or 8), including the copies
+//                  of the particles into records and back;
+//   stream_avx2_sweep  the same capped at AVX2, on a CPU with AVX-512 only;
 //   stream_scalar_sweep  the same with the scalar kernel.
 // The timed section is the benchmark thread's CPU time. The summary prints
 // the medians and the ratio generic / kernel of this run.
@@ -37,6 +38,7 @@
 #include <string>
 #include <vector>
 
+#include "simd_cap.hpp"
 #include "xpbd/dihedral_stream.hpp"
 #include "xpbd/distance_stream.hpp"
 #include "xpbd/solve.hpp"
@@ -102,9 +104,10 @@ Scene& scene() {
   return s;
 }
 
-enum class Kind { kernel, generic, coloured, stream, stream_scalar };
+enum class Kind { kernel, generic, coloured, stream, stream_avx2, stream_scalar };
 
 void BM_sweep(benchmark::State& bs, Kind kind) {
+  const xpbd_bench::Avx2Cap cap(kind == Kind::stream_avx2);
   const Scene& s = scene();
   State st = s.snapshot;
   const std::span<const DihedralBending> cs(kind == Kind::coloured ? s.by_colour : s.model.get<DihedralBending>());
@@ -115,7 +118,7 @@ void BM_sweep(benchmark::State& bs, Kind kind) {
   sc.inv_mass = s.model.inv_mass.data();
   sc.h = Real(1) / Real(600);
   sc.eval.x = st.x.data();
-  const bool stream = kind == Kind::stream || kind == Kind::stream_scalar;
+  const bool stream = kind == Kind::stream || kind == Kind::stream_avx2 || kind == Kind::stream_scalar;
   if (stream) prepare_stream(s.model, st, sc.h);
   double seconds = 0;
   for (auto _ : bs) {
@@ -124,7 +127,7 @@ void BM_sweep(benchmark::State& bs, Kind kind) {
     std::fill(st.dihedral_lambda.begin(), st.dihedral_lambda.end(), Real(0));
     const double t0 = thread_seconds();
     if (stream)
-      project_dihedral_stream(s.model, st, sc, kind == Kind::stream);
+      project_dihedral_stream(s.model, st, sc, kind != Kind::stream_scalar);
     else if (kind == Kind::generic)
       project_all_generic<DihedralBending, false>(cs, std::span<Real>(lambda), sc);
     else
@@ -164,6 +167,10 @@ class SummaryReporter : public benchmark::ConsoleReporter {
     if (v != results_.end() && sc != results_.end())
       std::printf("stream (%s) %.1f, stream scalar %.1f; kernel / stream %.2f, stream scalar / stream %.2f\n",
                   xpbd::simd_kernel(), v->second, sc->second, k->second / v->second, sc->second / v->second);
+    const auto a2 = results_.find("stream_avx2_sweep");
+    if (v != results_.end() && a2 != results_.end())
+      std::printf("stream capped at avx2 %.1f; avx2 / %s %.2f\n", a2->second, xpbd::simd_kernel(),
+                  a2->second / v->second);
   }
 
  private:
@@ -180,6 +187,10 @@ int main(int argc, char** argv) {
   benchmark::RegisterBenchmark("generic_sweep", BM_sweep, Kind::generic)->UseManualTime()->Unit(benchmark::kMicrosecond);
   benchmark::RegisterBenchmark("coloured_sweep", BM_sweep, Kind::coloured)->UseManualTime()->Unit(benchmark::kMicrosecond);
   benchmark::RegisterBenchmark("stream_sweep", BM_sweep, Kind::stream)->UseManualTime()->Unit(benchmark::kMicrosecond);
+  if (xpbd_bench::has_avx2_row())
+    benchmark::RegisterBenchmark("stream_avx2_sweep", BM_sweep, Kind::stream_avx2)
+        ->UseManualTime()
+        ->Unit(benchmark::kMicrosecond);
   benchmark::RegisterBenchmark("stream_scalar_sweep", BM_sweep, Kind::stream_scalar)
       ->UseManualTime()
       ->Unit(benchmark::kMicrosecond);

@@ -21,14 +21,19 @@
 //   stream_sweep/*  one sweep of xpbd::project_stream, what step() runs with
 //                   StepConfig::coloured in XPBD: the same order over the
 //                   compiled stream (distance_stream.hpp), with the widest
-//                   kernel this CPU has (AVX2 here), the particles copied
-//                   in and out included (prepare_stream, which step() runs
-//                   once per step, is not timed);
+//                   kernel this CPU has (simd_kernel(): AVX-512 or AVX2),
+//                   the particles copied in and out included
+//                   (prepare_stream, which step() runs once per step, is
+//                   not timed);
+//   stream_avx2_sweep/* the same capped at the AVX2 kernel
+//                   (set_simd_kernel), on a CPU with AVX-512 only;
 //   stream_scalar_sweep/* the same with the scalar kernel (simd = false);
 //   step/*          a full xpbd::step() of the cloth scene, time divided by
 //                   substeps * iterations * constraints (so predict and the
 //                   velocity update are charged to the projections);
-//   step_coloured/* the same with StepConfig::coloured (the stream, AVX2);
+//   step_coloured/* the same with StepConfig::coloured (the stream, widest
+//                   kernel);
+//   step_coloured_avx2/* the same capped at AVX2, on a CPU with AVX-512 only;
 //   step_coloured_scalar/* the same with StepConfig::simd = false;
 //   step_threads2/* step_coloured with StepConfig::workers of 2 threads
 //                   (wall time).
@@ -37,8 +42,10 @@
 // array-order benchmark (kernel_sweep or step) to them, and in the last
 // column the ratio of a second reference: the scalar kernel's time over the
 // vector kernel's (stream_sweep, step_coloured), the single-threaded step's
-// over the threaded one's (step_threads2); all measured in this run, and the
-// number of colours.
+// over the threaded one's (step_threads2); where the CPU has AVX-512, a
+// last column with the AVX2 kernel's time over the widest one's
+// (stream_sweep, step_coloured); all measured in this run, and the number
+// of colours.
 //
 // Snapshot / restore (docs/design.md principle 7): the cloth is warmed up by a few
 // steps of free swinging; that State is the snapshot. Each measured batch
@@ -56,6 +63,7 @@
 #include <utility>
 #include <vector>
 
+#include "simd_cap.hpp"
 #include "xpbd/distance_stream.hpp"
 #include "xpbd/solve.hpp"
 #include "xpbd/workers.hpp"
@@ -235,15 +243,19 @@ SolveContext context(const ClothBench& b, State& s) {
   return sc;
 }
 
-enum class Kernel { dispatch, generic, coloured, stream, stream_scalar };
+enum class Kernel { dispatch, generic, coloured, stream, stream_avx2, stream_scalar };
+
+bool is_stream(Kernel k) { return k == Kernel::stream || k == Kernel::stream_avx2 || k == Kernel::stream_scalar; }
+
+using xpbd_bench::Avx2Cap;
 
 void kernel_sweep(const ClothBench& b, State& s, const SolveContext& sc,
                   Kernel kernel = Kernel::dispatch) {
   const std::span<const Distance> cs(b.model.get<Distance>());
   std::span<Real> lambda(s.lambdas<Distance>());
   const bool damped = b.model.has_damping[type_index_v<Distance>];
-  if (kernel == Kernel::stream || kernel == Kernel::stream_scalar) {
-    project_stream(b.model, s, sc, kernel == Kernel::stream);
+  if (is_stream(kernel)) {
+    project_stream(b.model, s, sc, kernel != Kernel::stream_scalar);
   } else if (kernel == Kernel::coloured) {
     const std::span<const Distance> by_colour(b.model.distance_by_colour);
     const std::span<const Index> order(b.model.distance_colours.order);
@@ -320,6 +332,7 @@ bool check_agreement(benchmark::State& bs, const ClothBench& b, Kernel kernel) {
 
 void BM_kernel_sweep(benchmark::State& bs, Stiffness stiffness, Kernel kernel) {
   const ClothBench& b = cloth(stiffness);
+  const Avx2Cap cap(kernel == Kernel::stream_avx2);
   if (!check_agreement(bs, b, kernel)) return;
   State s = b.snapshot;
   const SolveContext sc = context(b, s);
@@ -329,7 +342,7 @@ void BM_kernel_sweep(benchmark::State& bs, Stiffness stiffness, Kernel kernel) {
     std::copy(b.sweep_x.begin(), b.sweep_x.end(), s.x.begin());  // restore (untimed)
     std::copy(b.sweep_x_prev.begin(), b.sweep_x_prev.end(), s.x_prev.begin());
     std::fill(lambda.begin(), lambda.end(), Real(0));
-    if (kernel == Kernel::stream || kernel == Kernel::stream_scalar)
+    if (is_stream(kernel))
       prepare_stream(b.model, s, sc.h);  // once per step in step(); zeroes the multipliers
     const auto t0 = Clock::now();
     kernel_sweep(b, s, sc, kernel);
@@ -372,8 +385,9 @@ void BM_naive_sweep(benchmark::State& bs, Stiffness stiffness) {
 // Full step of the cloth scene; every constraint type of the model counts
 // (here: the distances plus the two kinematic pins).
 void BM_step(benchmark::State& bs, Stiffness stiffness, int substeps, int iterations,
-             bool coloured, int threads, bool simd) {
+             bool coloured, int threads, bool simd, bool avx2) {
   const ClothBench& b = cloth(stiffness);
+  const Avx2Cap cap(avx2);
   StepConfig cfg = b.cfg;
   cfg.coloured = coloured;
   cfg.simd = simd;
@@ -420,16 +434,20 @@ void register_all() {
     add("kernel_sweep/" + n, benchmark::kMicrosecond, BM_kernel_sweep, s, Kernel::dispatch);
     add("coloured_sweep/" + n, benchmark::kMicrosecond, BM_kernel_sweep, s, Kernel::coloured);
     add("stream_sweep/" + n, benchmark::kMicrosecond, BM_kernel_sweep, s, Kernel::stream);
+    if (xpbd_bench::has_avx2_row())
+      add("stream_avx2_sweep/" + n, benchmark::kMicrosecond, BM_kernel_sweep, s, Kernel::stream_avx2);
     add("stream_scalar_sweep/" + n, benchmark::kMicrosecond, BM_kernel_sweep, s, Kernel::stream_scalar);
   }
   for (Stiffness s : {Stiffness::compliant, Stiffness::rigid}) {
     const std::string n = name(s);
     for (auto [sub, it] : {std::pair{10, 1}, std::pair{20, 1}, std::pair{1, 10}}) {
       const std::string si = "/substeps:" + std::to_string(sub) + "/iterations:" + std::to_string(it);
-      add("step/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, false, 1, true);
-      add("step_coloured/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, true, 1, true);
-      add("step_coloured_scalar/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, true, 1, false);
-      add("step_threads2/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, true, 2, true);
+      add("step/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, false, 1, true, false);
+      add("step_coloured/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, true, 1, true, false);
+      if (xpbd_bench::has_avx2_row())
+        add("step_coloured_avx2/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, true, 1, true, true);
+      add("step_coloured_scalar/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, true, 1, false, false);
+      add("step_threads2/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, true, 2, true, false);
     }
   }
 }
@@ -464,8 +482,9 @@ class SummaryReporter : public benchmark::ConsoleReporter {
                 "theirs (kernel_sweep or step, same stiffness and budget), and the\n"
                 "second reference's (scalar kernel; one thread) over theirs, all in this run\n",
                 any_median() ? "median of repetitions" : "single run");
-    std::printf("%-48s %10s %11s %11s %11s\n", "benchmark", "ns/proj", "naive/this", "array/this",
-                "second/this");
+    const bool wide = xpbd_bench::has_avx2_row();
+    std::printf("%-48s %10s %11s %11s %11s%s\n", "benchmark", "ns/proj", "naive/this", "array/this",
+                "second/this", wide ? "   avx2/this" : "");
     for (const std::string& n : order_) {
       const double v = results_.at(n).value;
       // "step/rigid/substeps:10/iterations:1" -> "naive_sweep/rigid"
@@ -474,10 +493,16 @@ class SummaryReporter : public benchmark::ConsoleReporter {
       // "step_coloured/rigid/..." -> "step/rigid/...", "coloured_sweep/x" -> "kernel_sweep/x"
       const std::string kind = n.substr(0, a - 1), rest = n.substr(a - 1);
       std::string array, second;
-      if (kind == "step_coloured" || kind == "step_coloured_scalar" || kind == "step_threads2")
+      if (kind == "step_coloured" || kind == "step_coloured_avx2" || kind == "step_coloured_scalar" ||
+          kind == "step_threads2")
         array = "step" + rest;
-      if (kind == "coloured_sweep" || kind == "stream_sweep" || kind == "stream_scalar_sweep")
+      if (kind == "coloured_sweep" || kind == "stream_sweep" || kind == "stream_avx2_sweep" ||
+          kind == "stream_scalar_sweep")
         array = "kernel_sweep" + rest;
+      std::string avx2;
+      if (kind == "stream_sweep") avx2 = "stream_avx2_sweep" + rest;
+      if (kind == "step_coloured") avx2 = "step_coloured_avx2" + rest;
+      const auto a2 = avx2.empty() ? results_.end() : results_.find(avx2);
       if (kind == "stream_sweep") second = "stream_scalar_sweep" + rest;
       if (kind == "step_coloured") second = "step_coloured_scalar" + rest;
       if (kind == "step_threads2") second = "step_coloured" + rest;
@@ -493,9 +518,13 @@ class SummaryReporter : public benchmark::ConsoleReporter {
       else
         std::printf(" %11s", "-");
       if (sec != results_.end())
-        std::printf(" %11.2f\n", sec->second.value / v);
+        std::printf(" %11.2f", sec->second.value / v);
       else
-        std::printf(" %11s\n", "-");
+        std::printf(" %11s", "-");
+      if (a2 != results_.end())
+        std::printf(" %11.2f\n", a2->second.value / v);
+      else
+        std::printf("%s\n", wide ? " -" : "");
     }
     if (colours_ > 0) std::printf("colours in the cloth's Distance schedule: %.0f\n", colours_);
     std::printf("stream kernel on this CPU: %s; precision: %s\n", simd_kernel(), sizeof(Real) == 8 ? "double" : "float");

@@ -19,18 +19,21 @@
 // the one-thread coloured step's over the two-thread one's, all in this
 // run; then where the time of the one-thread coloured step goes: the share
 // of each stage of step() (StepConfig::times, profile.hpp) over 3 steps
-// per size.
+// per size. XPBD_BENCH_SIMD=avx2 (or scalar) in the environment caps the
+// stream kernels for the whole run (simd_cap.hpp).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <exception>
 #include <map>
 #include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "simd_cap.hpp"
 #include "xpbd/distance_stream.hpp"
 #include "xpbd/workers.hpp"
 #include "xpbd/xpbd.hpp"
@@ -207,6 +210,12 @@ void print_stages() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  try {
+    xpbd_bench::cap_from_environment();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "XPBD_BENCH_SIMD: %s\n", e.what());
+    return 2;
+  }
   for (int tasks : {1, 2, 4}) {
     benchmark::RegisterBenchmark(("barrier/" + std::to_string(tasks)).c_str(), BM_barrier, tasks)
         ->UseManualTime()

@@ -17,6 +17,8 @@
 //                        of this CPU (what step() runs with coloured in
 //                        XPBD), including the copies of the particles into
 //                        records and back;
+//   stream_avx2_sweep    the same capped at AVX2, on a CPU with AVX-512
+//                        only;
 //   stream_scalar_sweep  the same with the scalar kernel.
 // Steps, reported as ms_per_step (20 substeps x 1 iteration, the whole
 // cloth: edges and tethers): step_array and step_coloured.
@@ -32,6 +34,7 @@
 #include <string>
 #include <vector>
 
+#include "simd_cap.hpp"
 #include "xpbd/distance_stream.hpp"
 #include "xpbd/solve.hpp"
 #include "xpbd/xpbd.hpp"
@@ -69,9 +72,10 @@ Scene& scene() {
   return s;
 }
 
-enum class Kind { array, stream, stream_scalar };
+enum class Kind { array, stream, stream_avx2, stream_scalar };
 
 void BM_sweep(benchmark::State& bs, Kind kind) {
+  const xpbd_bench::Avx2Cap cap(kind == Kind::stream_avx2);
   const Scene& s = scene();
   State st = s.snapshot;
   const std::span<const Tether> cs(s.model.get<Tether>());
@@ -92,7 +96,7 @@ void BM_sweep(benchmark::State& bs, Kind kind) {
     if (kind == Kind::array)
       project_all<Tether, false>(cs, std::span<Real>(lambda), sc);
     else
-      project_tether_stream(s.model, st, sc, kind == Kind::stream);
+      project_tether_stream(s.model, st, sc, kind != Kind::stream_scalar);
     benchmark::ClobberMemory();
     const double dt = thread_seconds() - t0;
     bs.SetIterationTime(dt);
@@ -144,6 +148,10 @@ class SummaryReporter : public benchmark::ConsoleReporter {
                   "array / stream %.2f, stream scalar / stream %.2f\n",
                   a->second, xpbd::simd_kernel(), v->second, sc->second, a->second / v->second,
                   sc->second / v->second);
+    const auto a2 = results_.find("stream_avx2_sweep");
+    if (v != results_.end() && a2 != results_.end())
+      std::printf("stream capped at avx2 %.2f; avx2 / %s %.2f\n", a2->second, xpbd::simd_kernel(),
+                  a2->second / v->second);
     const auto sa = results_.find("step_array"), sv = results_.find("step_coloured");
     if (sa != results_.end() && sv != results_.end())
       std::printf("ms per step, 20 x 1 (medians): array %.3f, coloured %.3f; array / coloured %.2f\n", sa->second,
@@ -162,6 +170,10 @@ int main(int argc, char** argv) {
   scene();
   benchmark::RegisterBenchmark("array_sweep", BM_sweep, Kind::array)->UseManualTime()->Unit(benchmark::kMicrosecond);
   benchmark::RegisterBenchmark("stream_sweep", BM_sweep, Kind::stream)->UseManualTime()->Unit(benchmark::kMicrosecond);
+  if (xpbd_bench::has_avx2_row())
+    benchmark::RegisterBenchmark("stream_avx2_sweep", BM_sweep, Kind::stream_avx2)
+        ->UseManualTime()
+        ->Unit(benchmark::kMicrosecond);
   benchmark::RegisterBenchmark("stream_scalar_sweep", BM_sweep, Kind::stream_scalar)
       ->UseManualTime()
       ->Unit(benchmark::kMicrosecond);

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "xpbd/distance_stream.hpp"
 #include "xpbd/xpbd.hpp"
 
 namespace xpbd::test {
@@ -131,5 +132,29 @@ inline double mean_period(const std::vector<double>& crossings) {
   if (crossings.size() < 2) return std::nan("");
   return (crossings.back() - crossings.front()) / double(crossings.size() - 1);
 }
+
+// The vector kernels of the coloured sweeps that this build has on this
+// CPU, widest first: "avx512", "avx2", or none.
+inline std::vector<std::string> vector_kernels() {
+  const std::string widest = simd_kernel();
+  if (widest == "avx512") return {"avx512", "avx2"};
+  if (widest == "avx2") return {"avx2"};
+  return {};
+}
+
+// Caps the coloured sweeps' kernel at `name` (set_simd_kernel) while it
+// lives; then the widest again.
+class KernelCap {
+ public:
+  explicit KernelCap(const std::string& name) : widest_(vector_kernels().empty() ? "scalar" : vector_kernels()[0]) {
+    set_simd_kernel(name);
+  }
+  ~KernelCap() { set_simd_kernel(widest_); }
+  KernelCap(const KernelCap&) = delete;
+  KernelCap& operator=(const KernelCap&) = delete;
+
+ private:
+  std::string widest_;
+};
 
 }  // namespace xpbd::test

@@ -64,6 +64,35 @@ TEST(DistanceStream, HoldsTheColouredElementsAndFollowsSetMaterial) {
   EXPECT_EQ(soft_seen, 40);
 }
 
+// set_simd_kernel takes the three names and refuses any other, and any
+// kernel this build or CPU does not have, naming the value; the cap shows
+// in simd_kernel() and is lifted again.
+TEST(DistanceStream, KernelCapIsCheckedAndNamed) {
+  const std::string widest = simd_kernel();
+  for (const char* bad : {"avx1024", "", "AVX2"}) {
+    try {
+      set_simd_kernel(bad);
+      ADD_FAILURE() << "accepted \"" << bad << "\"";
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(std::string("\"") + bad + "\""), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(std::string(simd_kernel()), widest);
+  if (widest != "avx512") {
+    try {
+      set_simd_kernel("avx512");
+      ADD_FAILURE() << "accepted avx512 where the widest kernel is " << widest;
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("not available"), std::string::npos) << e.what();
+    }
+  }
+  {
+    const test::KernelCap cap("scalar");
+    EXPECT_STREQ(simd_kernel(), "scalar");
+  }
+  EXPECT_EQ(std::string(simd_kernel()), widest);
+}
+
 TEST(DistanceStream, UnpreparedStateAndBadSubstepAreNamed) {
   const Model m = cloth(6, 0);
   State s = make_state(m);
@@ -146,9 +175,14 @@ TEST(DistanceStream, OneSweepIsThePairDistanceKernelsToRoundOff) {
 
 bool same_bits(const Vec3& p, const Vec3& q) { return std::memcmp(p.data(), q.data(), sizeof(Real) * 3) == 0; }
 
+// Every vector kernel this CPU has (AVX-512 and AVX2, each set as the cap
+// in turn) against the scalar one.
 TEST(DistanceStream, VectorAndScalarKernelsGiveTheSameBits) {
-  if (std::string(simd_kernel()) == "scalar") GTEST_SKIP() << "this CPU has no AVX2 kernel";
+  if (test::vector_kernels().empty()) GTEST_SKIP() << "this CPU has no vector kernel";
+  for (const std::string& kernel : test::vector_kernels())
   for (Real damping : {Real(0), Real(2)}) {
+    const test::KernelCap cap(kernel);
+    ASSERT_EQ(std::string(simd_kernel()), kernel);
     const Model m = cloth(48, damping);
     State vec = make_state(m);
     // A zero-length edge (particles 1 and 2 on top of each other): left alone by both kernels.
@@ -171,10 +205,11 @@ TEST(DistanceStream, VectorAndScalarKernelsGiveTheSameBits) {
       moved = std::max(moved, (vec.x[i] - m.x0[i]).norm());
       ASSERT_TRUE(vec.x[i].allFinite()) << i;
     }
-    EXPECT_EQ(differ, 0) << "damping " << damping;
+    EXPECT_EQ(differ, 0) << kernel << ", damping " << damping;
     EXPECT_EQ(std::memcmp(vec.lambdas<Distance>().data(), sca.lambdas<Distance>().data(),
                           sizeof(Real) * vec.lambdas<Distance>().size()),
-              0);
+              0)
+        << kernel;
     EXPECT_GT(moved, Real(0.1));
   }
 }

@@ -2,7 +2,7 @@
 // The coloured XPBD DihedralBending kernel over a DihedralStream
 // (dihedral_stream.hpp), written once for any lane type V of
 // stream_kernel.hpp: ScalarLane (stream.cpp's callers, dihedral_stream.cpp)
-// and the AVX2 lane (stream_avx2.cpp).
+// the AVX2 lane (stream_avx2.cpp) and the AVX-512 lane (stream_avx512.cpp).
 //
 // Per hinge, with e = x1 - x0, d_k = x_k - x0 (solve_dihedral.hpp's update):
 //   N1 = e x d2, N2 = d3 x e, a_k = |N_k|^2, l = |e|,
@@ -157,8 +157,9 @@ inline void project_dihedral_variant(const DihedralArgs& s, std::size_t lo, std:
                    [&]<bool kDamped, bool kFirst>() { project_dihedral_range<V, kDamped, kFirst>(s, lo, hi); });
 }
 
-// Entry points (dihedral_stream.cpp; stream_avx2.cpp).
+// Entry points (dihedral_stream.cpp; stream_avx2.cpp; stream_avx512.cpp).
 void project_dihedral_scalar(const DihedralArgs& s, std::size_t lo, std::size_t hi, bool damped, bool first);
 void project_dihedral_avx2(const DihedralArgs& s, std::size_t lo, std::size_t hi, bool damped, bool first);
+void project_dihedral_avx512(const DihedralArgs& s, std::size_t lo, std::size_t hi, bool damped, bool first);
 
 }  // namespace xpbd::detail

@@ -19,10 +19,16 @@ using Kernel = void (*)(const DihedralArgs&, std::size_t, std::size_t, bool, boo
 
 Kernel kernel(bool simd) {
 #if XPBD_HAVE_AVX2_KERNEL
-  if (use_avx2(simd)) return &project_dihedral_avx2;
+  const Kernel avx2 = &project_dihedral_avx2;
+#else
+  const Kernel avx2 = nullptr;
 #endif
-  (void)simd;
-  return &project_dihedral_scalar;
+#if XPBD_HAVE_AVX512_KERNEL
+  const Kernel avx512 = &project_dihedral_avx512;
+#else
+  const Kernel avx512 = nullptr;
+#endif
+  return pick_kernel(simd_level(simd), &project_dihedral_scalar, avx2, avx512);
 }
 }  // namespace
 

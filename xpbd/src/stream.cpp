@@ -1,6 +1,7 @@
 #include "stream.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -18,16 +19,36 @@ void project_stream_scalar(const StreamArgs& s, std::size_t lo, std::size_t hi, 
   project_stream_variant<ScalarLane>(s, lo, hi, damped, first);
 }
 
-bool cpu_has_avx2() {
-#if XPBD_HAVE_AVX2_KERNEL
-  static const bool has = __builtin_cpu_supports("avx2") != 0;
-  return has;
-#else
-  return false;
+Simd widest_simd() {
+#if XPBD_HAVE_AVX512_KERNEL
+  if (__builtin_cpu_supports("avx512f") != 0) return Simd::avx512;
 #endif
+#if XPBD_HAVE_AVX2_KERNEL
+  if (__builtin_cpu_supports("avx2") != 0) return Simd::avx2;
+#endif
+  return Simd::scalar;
 }
 
-bool use_avx2(bool simd) { return simd && cpu_has_avx2(); }
+namespace {
+// set_simd_kernel's cap; every kernel gives the same bits, so a cap changed
+// while another thread steps changes its speed only.
+std::atomic<int> simd_cap{static_cast<int>(Simd::avx512)};
+
+const char* simd_name(Simd k) {
+  switch (k) {
+    case Simd::avx512: return "avx512";
+    case Simd::avx2: return "avx2";
+    case Simd::scalar: break;
+  }
+  return "scalar";
+}
+}  // namespace
+
+Simd simd_level(bool simd) {
+  if (!simd) return Simd::scalar;
+  static const Simd widest = widest_simd();
+  return std::min(widest, static_cast<Simd>(simd_cap.load(std::memory_order_relaxed)));
+}
 
 namespace {
 void pack(const std::vector<Vec3>& x, const std::vector<Real>& inv_mass, Real* out, std::size_t lo,
@@ -105,7 +126,7 @@ void pair_sweep(const Model& m, State& s, const PairStream& p, const SolveContex
   a.lambda = p.lambda.data();
   a.x = s.stream_x.data();
   a.x_prev = damped ? s.stream_x_prev.data() : nullptr;
-  const PairKernel k = use_avx2(simd) && p.avx2 != nullptr ? p.avx2 : p.scalar;
+  const PairKernel k = pick_kernel(simd_level(simd), p.scalar, p.avx2, p.avx512);
   sweep_colours(p.colours, sc.reverse, workers, [&](std::size_t lo, std::size_t hi) { k(a, lo, hi, damped, first); });
   unpack_records(s, workers);
 }
@@ -117,8 +138,15 @@ PairStream distance_pair(const Model& m, State& s) {
 #else
   const PairKernel avx2 = nullptr;
 #endif
+#if XPBD_HAVE_AVX512_KERNEL && XPBD_DOUBLE
+  // In float the AVX-512 Distance kernel was no faster than the AVX2 one
+  // (docs/benchmarks.md, "The AVX-512 kernels"), so float keeps AVX2 here.
+  const PairKernel avx512 = &project_stream_avx512;
+#else
+  const PairKernel avx512 = nullptr;
+#endif
   return {m.distance_stream, m.distance_colours, s.stream_at,     s.stream_inv_den,
-          s.stream_gamma,    s.stream_lambda,    &project_stream_scalar, avx2};
+          s.stream_gamma,    s.stream_lambda,    &project_stream_scalar, avx2, avx512};
 }
 }  // namespace
 
@@ -189,6 +217,21 @@ void project_tether_stream(const Model& m, State& s, const SolveContext& sc, boo
   detail::tether_sweep(m, s, sc, damped, simd, false, true, workers);
 }
 
-const char* simd_kernel() { return detail::cpu_has_avx2() ? "avx2" : "scalar"; }
+const char* simd_kernel() { return detail::simd_name(detail::simd_level(true)); }
+
+void set_simd_kernel(const std::string& name) {
+  using detail::Simd;
+  Simd k = Simd::scalar;
+  if (name == "avx512")
+    k = Simd::avx512;
+  else if (name == "avx2")
+    k = Simd::avx2;
+  else if (name != "scalar")
+    throw ConfigError("set_simd_kernel: unknown kernel \"" + name + "\" (avx512, avx2 or scalar)");
+  if (k > detail::widest_simd())
+    throw ConfigError("set_simd_kernel: \"" + name + "\" is not available here (the widest kernel of this build on this CPU is " +
+                      detail::simd_name(detail::widest_simd()) + ")");
+  detail::simd_cap.store(static_cast<int>(k), std::memory_order_relaxed);
+}
 
 }  // namespace xpbd

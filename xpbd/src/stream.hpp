@@ -41,14 +41,14 @@ void split(Workers* w, std::size_t n, std::size_t align, F&& f) {
 
 // Calls kernel(lo, hi) over each colour of `cs` in turn (last to first if
 // `reverse`), each split over the workers in pieces whose bounds are
-// multiples of 8 (whole vector batches).
+// multiples of 16 (whole vector batches of every kernel).
 template <class K>
 void sweep_colours(const ColourSchedule& cs, bool reverse, Workers* workers, K&& kernel) {
   const Index colours = cs.num_colours();
   for (Index j = 0; j < colours; ++j) {
     const auto c = static_cast<std::size_t>(reverse ? colours - 1 - j : j);
     const auto b = static_cast<std::size_t>(cs.begin[c]), e = static_cast<std::size_t>(cs.begin[c + 1]);
-    split(workers, e - b, 8, [&](std::size_t lo, std::size_t hi) { kernel(b + lo, b + hi); });
+    split(workers, e - b, 16, [&](std::size_t lo, std::size_t hi) { kernel(b + lo, b + hi); });
   }
 }
 
@@ -56,9 +56,21 @@ void sweep_colours(const ColourSchedule& cs, bool reverse, Workers* workers, K&&
 // elements' order.
 void scatter_lambda(const std::vector<Index>& order, const std::vector<Real>& from, std::vector<Real>& to);
 
-// True if the AVX2 kernels run: `simd` asked for and the CPU has them.
-bool use_avx2(bool simd);
-bool cpu_has_avx2();
+// The kernels of the coloured sweeps, narrowest first.
+enum class Simd { scalar = 0, avx2 = 1, avx512 = 2 };
+// The kernel the sweeps run: scalar unless `simd`; else the widest that
+// this build has, this CPU reports and set_simd_kernel allows.
+Simd simd_level(bool simd);
+// The widest kernel this build has and this CPU reports.
+Simd widest_simd();
+// Of the three kernels (any may be null but the scalar one), the one for
+// `level`, or the widest narrower one that exists.
+template <class K>
+K pick_kernel(Simd level, K scalar, K avx2, K avx512) {
+  if (level == Simd::avx512 && avx512 != nullptr) return avx512;
+  if (level >= Simd::avx2 && avx2 != nullptr) return avx2;
+  return scalar;
+}
 // State::stream_x (and stream_x_prev when damped) sized for m's particles.
 void size_records(const Model& m, State& s, bool damped);
 // x (and x_prev when damped) with 1/m into the records; back into x.
@@ -76,7 +88,7 @@ struct PairStream {
   std::vector<Real>& inv_den;
   std::vector<Real>& gamma;
   std::vector<Real>& lambda;
-  PairKernel scalar, avx2;  // avx2 null where the library has no AVX2 kernel
+  PairKernel scalar, avx2, avx512;  // null where the library has no such kernel
 };
 // Sizes the scratch and computes each element's at, 1/den and gamma for
 // substeps of h (one element at a time; the same operations in every build).

@@ -1,8 +1,9 @@
 #pragma once
 // The coloured XPBD Distance kernel over a DistanceStream
 // (distance_stream.hpp), written once for any lane type V: the scalar
-// kernel (ScalarLane below, one element at a time) and the AVX2 kernel
-// (stream_avx2.cpp, 8 floats or 4 doubles at a time) instantiate it.
+// kernel (ScalarLane below, one element at a time), the AVX2 kernel
+// (stream_avx2.cpp, 8 floats or 4 doubles at a time) and the AVX-512 one
+// (stream_avx512.cpp, 16 floats or 8 doubles) instantiate it.
 //
 // Per element, with w the inverse masses, d = x_a - x_b, L = |d| (the
 // update of project_pair_distance in solve.hpp, sign +1):
@@ -39,7 +40,7 @@ struct StreamArgs {
 
 // The lane types live in unnamed namespaces, so that every instantiation of
 // the kernel is local to its file: the linker can never pick a copy
-// compiled with -mavx2 for a caller on a CPU without AVX2.
+// compiled with -mavx2 or -mavx512f for a caller on a CPU without it.
 namespace {
 
 // One element at a time, in plain C++.
@@ -173,8 +174,9 @@ inline void project_stream_variant(const StreamArgs& s, std::size_t lo, std::siz
                    [&]<bool kDamped, bool kFirst>() { project_stream_range<V, kDamped, kFirst>(s, lo, hi); });
 }
 
-// Entry points (stream.cpp; stream_avx2.cpp).
+// Entry points (stream.cpp; stream_avx2.cpp; stream_avx512.cpp).
 void project_stream_scalar(const StreamArgs& s, std::size_t lo, std::size_t hi, bool damped, bool first);
 void project_stream_avx2(const StreamArgs& s, std::size_t lo, std::size_t hi, bool damped, bool first);
+void project_stream_avx512(const StreamArgs& s, std::size_t lo, std::size_t hi, bool damped, bool first);  // double only
 
 }  // namespace xpbd::detail

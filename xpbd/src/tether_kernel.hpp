@@ -114,8 +114,9 @@ inline void project_tether_variant(const StreamArgs& s, std::size_t lo, std::siz
                    [&]<bool kDamped, bool kFirst>() { project_tether_range<V, kDamped, kFirst>(s, lo, hi); });
 }
 
-// Entry points (tether_stream.cpp; stream_avx2.cpp).
+// Entry points (tether_stream.cpp; stream_avx2.cpp; stream_avx512.cpp).
 void project_tether_scalar(const StreamArgs& s, std::size_t lo, std::size_t hi, bool damped, bool first);
 void project_tether_avx2(const StreamArgs& s, std::size_t lo, std::size_t hi, bool damped, bool first);
+void project_tether_avx512(const StreamArgs& s, std::size_t lo, std::size_t hi, bool damped, bool first);
 
 }  // namespace xpbd::detail

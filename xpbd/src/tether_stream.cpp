@@ -25,8 +25,13 @@ PairStream tether_pair(const Model& m, State& s) {
 #else
   const PairKernel avx2 = nullptr;
 #endif
+#if XPBD_HAVE_AVX512_KERNEL
+  const PairKernel avx512 = &project_tether_avx512;
+#else
+  const PairKernel avx512 = nullptr;
+#endif
   return {m.tether_stream, m.tether_colours, s.tether_at,     s.tether_inv_den,
-          s.tether_gamma,  s.tether_lambda,  &project_tether_scalar, avx2};
+          s.tether_gamma,  s.tether_lambda,  &project_tether_scalar, avx2, avx512};
 }
 }  // namespace
 

@@ -19,10 +19,11 @@
 // step (prepare_stream). Unlike a distance, a hinge's denominator depends
 // on the positions, so each hinge divides four times per sweep.
 //
-// The AVX2 kernel (4 doubles or 8 floats) and the scalar one do the same
-// operations in the same order without fused multiply-adds, and both take
-// the angle from the C library's atan2 one hinge at a time, so they give the
-// same results bit for bit (tests/unit/test_dihedral_stream.cpp).
+// The AVX-512 kernel (8 doubles or 16 floats), the AVX2 kernel (4 doubles
+// or 8 floats) and the scalar one do the same operations in the same order
+// without fused multiply-adds, the angle included (one polynomial atan2 in
+// plain arithmetic, src/lane_atan2.hpp), so they give the same results bit
+// for bit (tests/unit/test_dihedral_stream.cpp).
 #include <vector>
 
 #include "xpbd/types.hpp"

@@ -16,12 +16,17 @@
 // denominator, compliance*damping/h) is computed once per step, so a sweep
 // divides only once per element (1/|d|^2, beside the square root).
 //
-// step() runs the widest kernel this CPU has (simd_kernel()): AVX2 when
-// the library was built for x86-64 and the CPU reports AVX2, the scalar
-// kernel otherwise (or with StepConfig::simd = false). Both do the same
-// floating-point operations in the same order on every element, without
-// fused multiply-adds, so they give the same results bit for bit
+// step() runs the widest kernel this CPU has (simd_kernel()): where the
+// library was built for x86-64, AVX-512 (16 floats or 8 doubles at a time)
+// when the CPU reports AVX-512F, else AVX2 when it reports AVX2; the
+// scalar kernel otherwise (or with StepConfig::simd = false). In float,
+// the Distance sweep runs AVX2 where the CPU has AVX-512 too (the AVX-512
+// kernel was no faster there; the Tether and DihedralBending sweeps run
+// AVX-512). All do the
+// same floating-point operations in the same order on every element,
+// without fused multiply-adds, so they give the same results bit for bit
 // (tests/unit/test_distance_stream.cpp).
+#include <string>
 #include <vector>
 
 #include "xpbd/types.hpp"
@@ -63,8 +68,18 @@ void project_stream(const Model& m, State& s, const SolveContext& sc, bool simd,
 void project_tether_stream(const Model& m, State& s, const SolveContext& sc, bool simd,
                            Workers* workers = nullptr);
 
-// "avx2" or "scalar": the kernel step() runs for the coloured XPBD sweep
-// with StepConfig::simd on, on this CPU with this build.
+// "avx512", "avx2" or "scalar": the widest kernel step() runs for the
+// coloured XPBD sweeps with StepConfig::simd on, on this CPU with this
+// build (and at most the one set_simd_kernel allows; see above for the
+// float Distance sweep).
 const char* simd_kernel();
+
+// Caps the kernel of the coloured sweeps for the whole process at `name`
+// ("avx512", "avx2" or "scalar"; at the start, no cap: the widest there
+// is). Every kernel gives the same bits, so this changes speed only: it
+// exists to measure the kernels against each other in one run. Throws
+// ConfigError, naming the value, for another name or for a kernel this
+// build or CPU does not have.
+void set_simd_kernel(const std::string& name);
 
 }  // namespace xpbd
