@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -42,6 +43,30 @@ TEST(Workers, ManyShortJobsInARow) {
       bad += sum.load() != tasks * (tasks + 1) / 2;
     }
     EXPECT_EQ(bad, 0) << threads << " threads";
+  }
+}
+
+// A thread busy with one of its own tasks does not hold up its others:
+// with 2 threads and 4 tasks (the calling thread's own 0 and 2, the
+// helper's 1 and 3), task 1 waits until task 3 has run. Whoever runs task
+// 1, the other thread must take task 3, even where it is not its own.
+// (Without taking others' tasks the wait times out after 5 s.)
+TEST(Workers, ABusyThreadsOtherTasksAreTakenByTheOthers) {
+  Workers w(2);
+  for (int round = 0; round < 200; ++round) {
+    std::atomic<bool> three_ran{false}, timed_out{false};
+    std::atomic<int> ran{0};
+    w.run(4, [&](int t) {
+      if (t == 1) {
+        const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+        while (!three_ran.load() && !timed_out.load())
+          if (std::chrono::steady_clock::now() > until) timed_out = true;
+      }
+      if (t == 3) three_ran = true;
+      ++ran;
+    });
+    ASSERT_FALSE(timed_out.load()) << "round " << round << ": task 3 waited for the thread busy with task 1";
+    ASSERT_EQ(ran.load(), 4);
   }
 }
 

@@ -31,7 +31,7 @@ void wait_until(std::atomic<T>& a, Ready ready) {
 Workers::Workers(int threads) {
   if (threads < 1) throw ConfigError("Workers: threads must be >= 1, got " + std::to_string(threads));
   helpers_.reserve(static_cast<std::size_t>(threads - 1));
-  for (int k = 1; k < threads; ++k) helpers_.emplace_back([this] { helper_loop(); });
+  for (int k = 1; k < threads; ++k) helpers_.emplace_back([this, k] { helper_loop(k); });
 }
 
 Workers::~Workers() {
@@ -51,21 +51,31 @@ void Workers::publish() {
   generation_.notify_all();
 }
 
-void Workers::work() {
-  for (;;) {
-    const int t = next_.fetch_add(1, std::memory_order_relaxed);
-    if (t >= tasks_) return;
-    try {
-      (*job_)(t);
-    } catch (...) {
-      std::lock_guard lock(error_mutex_);
-      if (!error_) error_ = std::current_exception();
-    }
-    if (done_.fetch_add(1, std::memory_order_acq_rel) + 1 == tasks_) done_.notify_one();
+void Workers::run_task(int t) {
+  try {
+    (*job_)(t);
+  } catch (...) {
+    std::lock_guard lock(error_mutex_);
+    if (!error_) error_ = std::current_exception();
   }
+  if (done_.fetch_add(1, std::memory_order_acq_rel) + 1 == tasks_) done_.notify_one();
 }
 
-void Workers::helper_loop() {
+void Workers::work(int slot) {
+  // Home tasks first (slot, slot + threads, ...): split() hands out pieces
+  // in the same order every time, so a thread keeps working on the same
+  // data from one job to the next and finds it in its own cache. Then any
+  // task nobody has claimed yet (a late or descheduled thread's).
+  const int stride = threads();
+  for (int t = slot; t < tasks_; t += stride)
+    if (claimed_[static_cast<std::size_t>(t)].exchange(1, std::memory_order_acq_rel) == 0) run_task(t);
+  for (int t = 0; t < tasks_; ++t)
+    if (claimed_[static_cast<std::size_t>(t)].load(std::memory_order_relaxed) == 0 &&
+        claimed_[static_cast<std::size_t>(t)].exchange(1, std::memory_order_acq_rel) == 0)
+      run_task(t);
+}
+
+void Workers::helper_loop(int slot) {
   std::uint64_t seen = 0;
   for (;;) {
     // A job is an even generation this helper has not entered yet.
@@ -83,7 +93,7 @@ void Workers::helper_loop() {
     }
     seen = g;
     const bool stop = stop_;
-    if (!stop) work();
+    if (!stop) work(slot);
     if (active_.fetch_sub(1, std::memory_order_seq_cst) == 1) active_.notify_one();
     if (stop) return;
   }
@@ -99,10 +109,14 @@ void Workers::run(int tasks, const std::function<void(int)>& f) {
   job_ = &f;
   tasks_ = tasks;
   error_ = nullptr;
-  next_.store(0, std::memory_order_relaxed);
+  if (claimed_size_ < static_cast<std::size_t>(tasks)) {
+    claimed_ = std::make_unique<std::atomic<unsigned char>[]>(static_cast<std::size_t>(tasks));
+    claimed_size_ = static_cast<std::size_t>(tasks);
+  }
+  for (int t = 0; t < tasks; ++t) claimed_[static_cast<std::size_t>(t)].store(0, std::memory_order_relaxed);
   done_.store(0, std::memory_order_relaxed);
   publish();
-  work();
+  work(0);
   // Done when every task has run, whoever ran it: a helper that has not
   // woken yet is not waited for (it finds no task left when it does).
   wait_until(done_, [&] { return done_.load(std::memory_order_acquire) == tasks; });

@@ -8,22 +8,29 @@
 //
 // run(tasks, f) calls f(t) once for every t in [0, tasks), spread over the
 // calling thread and the helpers, and returns when all calls have returned.
-// Tasks are taken one at a time by whichever thread is free, and run()
-// waits for the tasks, not for the helpers: when the helpers are not
-// running (more threads than free cores), the calling thread does the
-// tasks itself instead of waiting for them to be scheduled. Waiting threads
+// Thread k (0: the calling thread) first takes its own tasks, k, k + T, ...
+// for T threads, then any task no thread has taken yet. The sweeps split
+// their work into pieces in the same order every time, so a thread works on
+// the same particles from one colour and substep to the next and finds
+// them in its own cache (when any free thread took the next task, a piece
+// often moved between cores, and two threads gave the coloured step
+// 0.94-1.03x at 64 x 64 and 1.32-1.37x at 128 x 128, where they now give
+// 1.16-1.32x and 1.64-1.76x; docs/benchmarks.md, "Threads"). run() waits for the tasks, not for the
+// helpers: when a helper is not running (more threads than free cores), the
+// others take its tasks instead of waiting for it to be scheduled. Waiting threads
 // poll (up to 100,000 polls, yielding every 1,024, so that the next colour
 // and the next substep find them awake), then block (std::atomic::wait): a
 // pool left idle stops using CPU. A run of 2 empty tasks costs about
-// 140-260 ns; two threads make the coloured step 1.26-2.11 times as fast
-// from a 64 x 64 cloth up (docs/benchmarks.md, "Threads" and
-// "bench_scale"). One Workers serves one step() at a time; it is not itself
+// 140-260 ns (the calling thread takes both); a helper takes about 2 us to
+// start a task once it is published, measured on the 2-core development
+// machine. One Workers serves one step() at a time; it is not itself
 // thread-safe. An exception thrown by f is rethrown by run() (the first
 // one), after every task has finished.
 #include <atomic>
 #include <cstdint>
 #include <exception>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -43,8 +50,11 @@ class Workers {
   void run(int tasks, const std::function<void(int)>& f);
 
  private:
-  void helper_loop();
-  void work();         // takes tasks of the current job until none is left
+  void helper_loop(int slot);
+  // Runs the current job's tasks of thread `slot` (0: the calling thread),
+  // then any task not yet claimed.
+  void work(int slot);
+  void run_task(int t);
   void begin_setup();  // no helper inside the job fields after this
   void publish();      // the job fields are out
 
@@ -53,8 +63,10 @@ class Workers {
   // one up, and no helper may read the fields below.
   std::atomic<std::uint64_t> generation_{0};
   std::atomic<int> active_{0};  // helpers inside the current job
-  std::atomic<int> next_{0};    // next task index of the current job
   std::atomic<int> done_{0};    // tasks of the current job that have returned
+  // Per task of the current job: 1 once a thread has taken it.
+  std::unique_ptr<std::atomic<unsigned char>[]> claimed_;
+  std::size_t claimed_size_ = 0;
   int tasks_ = 0;
   const std::function<void(int)>* job_ = nullptr;
   bool stop_ = false;
