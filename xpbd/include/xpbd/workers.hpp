@@ -15,15 +15,17 @@
 // them in its own cache (when any free thread took the next task, a piece
 // often moved between cores, and two threads gave the coloured step
 // 0.94-1.03x at 64 x 64 and 1.32-1.37x at 128 x 128, where they now give
-// 1.16-1.32x and 1.64-1.76x; docs/benchmarks.md, "Threads"). run() waits for the tasks, not for the
-// helpers: when a helper is not running (more threads than free cores), the
-// others take its tasks instead of waiting for it to be scheduled. Waiting threads
-// poll (up to 100,000 polls, yielding every 1,024, so that the next colour
-// and the next substep find them awake), then block (std::atomic::wait): a
-// pool left idle stops using CPU. A run of 2 empty tasks costs about
-// 140-260 ns (the calling thread takes both); a helper takes about 2 us to
-// start a task once it is published, measured on the 2-core development
-// machine. One Workers serves one step() at a time; it is not itself
+// 1.16-1.32x and 1.64-1.76x; docs/benchmarks.md, "Threads"). run() waits
+// for the tasks, not for the helpers: when a helper is not running (more
+// threads than free cores), the others take its tasks instead of waiting
+// for it to be scheduled. Waiting threads poll (up to 100,000 polls,
+// yielding every 1,024, so that the next colour and the next substep find
+// them awake), then block (std::atomic::wait): a pool left idle stops using
+// CPU. On the 2-core development machine a helper starts its task a median
+// 0.45 us after the job is out, and a run of 2 empty tasks costs about
+// 760-780 ns (140-260 ns when the calling thread used to take both).
+// Below 64 x 64 two threads cost: 0.81x at 32 x 32 (docs/benchmarks.md,
+// "Left open: 32^2"). One Workers serves one step() at a time; it is not itself
 // thread-safe. An exception thrown by f is rethrown by run() (the first
 // one), after every task has finished.
 #include <atomic>
