@@ -83,13 +83,132 @@ void interpolate_pin_targets(State& s, Real t) {
     s.pin_target_now[i] = (Real(1) - t) * s.pin_target_prev[i] + t * s.pin_target[i];
 }
 
+// v = (x - x_prev)/h, then optional drag.
+//
+// A time step that shrinks: the positions a step starts from carry the
+// constraint and contact errors the previous steps left (what a sweep per
+// substep does not remove, contacts within their slack). A substep removes
+// part of that error and v = (x - x_prev)/h turns the removed distance into
+// velocity, at 1/h: the same error removed in a substep 1000 times shorter
+// gives 1000 times the speed (a draped cloth stepped once at 1e-4 s after
+// 1/60 s flew up at 35 m/s). So while the step is shorter than
+// State::velocity_step (the last step's dt, shortened as time passes:
+// max(dt, ref - h, 0.99 ref) after each substep), a movable particle's
+// velocity is its predicted one plus only blend = (dt / ref)^2 of the
+// change the solve made: the residual's removal adds almost no speed, and
+// the forces of the short substeps lose at most about the impulse of the
+// window. blend = 1 (a step as long as the last, or longer) is the plain
+// update. Kinematic particles take (x - x_prev)/h.
+// (Split over cfg.workers when set.)
+//
+// As numbers: mode 0 = none, 1 = the plain update, 2 = the blended one.
+struct VelocityUpdate {
+  int mode = 0;
+  Real scale = 0, inv_h = 0, keep = 1, blend = 1;
+};
+
+VelocityUpdate velocity_update(const StepConfig& cfg, Real h, Real blend) {
+  VelocityUpdate u;
+  u.mode = blend >= Real(1) ? 1 : 2;
+  u.inv_h = Real(1) / h;
+  u.keep = cfg.drag > Real(0) ? std::exp(-cfg.drag * h) : Real(1);
+  u.scale = u.inv_h * u.keep;
+  u.blend = blend;
+  return u;
+}
+
+// One particle's new velocity from its substep's start xp, its end x, its
+// velocity v and inverse mass w.
+template <int kMode>
+Vec3 updated_velocity(const Vec3& x, const Vec3& xp, const Vec3& v, Real w, const VelocityUpdate& u) {
+  if constexpr (kMode == 1) {
+    return (x - xp) * u.scale;
+  } else {
+    const Vec3 measured = (x - xp) * u.inv_h;
+    return (w > Real(0) ? Vec3(v + u.blend * (measured - v)) : measured) * u.keep;
+  }
+}
+
+// Pointers and values as arguments: predict_range says why.
+template <int kMode>
+void velocity_range(const Vec3* x, const Vec3* x_prev, const Real* inv_mass, Vec3* v, VelocityUpdate u,
+                    std::size_t lo, std::size_t hi) {
+  for (std::size_t i = lo; i < hi; ++i) v[i] = updated_velocity<kMode>(x[i], x_prev[i], v[i], inv_mass[i], u);
+}
+
+void update_velocities(const Model& m, State& s, const StepConfig& cfg, const VelocityUpdate& u) {
+  const Vec3* const x = s.x.data();
+  const Vec3* const x_prev = s.x_prev.data();
+  const Real* const inv_mass = m.inv_mass.data();
+  Vec3* const v = s.v.data();
+  detail::split(cfg.workers, s.x.size(), 1, [=](std::size_t lo, std::size_t hi) {
+    if (u.mode == 1)
+      velocity_range<1>(x, x_prev, inv_mass, v, u, lo, hi);
+    else
+      velocity_range<2>(x, x_prev, inv_mass, v, u, lo, hi);
+  });
+}
+
 // Symplectic Euler prediction: x_prev = x, v += h (g + f/m), x += h v.
 // Kinematic particles (inverse mass 0) keep their velocity; a kinematic
 // particle with a pin is placed on the pin's current target.
 // Per particle, so split over cfg.workers when set (the same bits).
-void predict(const Model& m, State& s, const StepConfig& cfg, Real h) {
-  // Plain pointers and values in the loop: nothing in it is re-read through
-  // the State or the config.
+//
+// `before` (mode 1 or 2): first the previous substep's velocity update,
+// which step() leaves to this pass when nothing between the two reads or
+// writes a particle's velocity: one pass over the particles instead of two,
+// the same arithmetic per particle, the same bits.
+//
+// With `rec` (and `rec_prev`) it also writes the particle records of the
+// coloured stream kernels (State::stream_x, stream_x_prev: x, y, z, inverse
+// mass) with the predicted positions (and the substep's start), as
+// pack_records would before the first sweep. The same bits either way.
+void put_record(Real* r, const Vec3& x, Real w) { r[0] = x.x(), r[1] = x.y(), r[2] = x.z(), r[3] = w; }
+
+// The loop over [lo, hi). Its pointers and values are arguments, so that
+// they stay in registers: captured in the lambda that split() hands to the
+// threads, they live in that closure, whose address escapes, and since any
+// store through x, x_prev or v could change them, the compiler loaded them
+// again in every iteration (11.7 % of a 64^2 cloth's step at 20 x 1 on one
+// thread, measured with perf).
+template <int kBefore, bool kRec, bool kRecPrev>
+void predict_range(Vec3* x, Vec3* x_prev, Vec3* v, const Real* inv_mass, const Vec3* f, Vec3 g, Real h,
+                   VelocityUpdate before, Real* rec, Real* rec_prev, std::size_t lo, std::size_t hi) {
+  for (std::size_t i = lo; i < hi; ++i) {
+    const Vec3 xi = x[i];
+    const Real w = inv_mass[i];
+    Vec3 vi;
+    if constexpr (kBefore == 0)
+      vi = v[i];
+    else
+      vi = updated_velocity<kBefore>(xi, x_prev[i], v[i], w, before);
+    x_prev[i] = xi;
+    if (w > Real(0)) {
+      Vec3 a = g;
+      if (f != nullptr) a += w * f[i];
+      vi += h * a;
+    }
+    v[i] = vi;
+    const Vec3 xn = xi + h * vi;
+    x[i] = xn;
+    if constexpr (kRec) put_record(rec + 4 * i, xn, w);
+    if constexpr (kRecPrev) put_record(rec_prev + 4 * i, xi, w);
+  }
+}
+
+template <int kBefore>
+void predict_records(Vec3* x, Vec3* x_prev, Vec3* v, const Real* inv_mass, const Vec3* f, Vec3 g, Real h,
+                     const VelocityUpdate& before, Real* rec, Real* rec_prev, std::size_t lo, std::size_t hi) {
+  if (rec == nullptr)
+    predict_range<kBefore, false, false>(x, x_prev, v, inv_mass, f, g, h, before, rec, rec_prev, lo, hi);
+  else if (rec_prev == nullptr)
+    predict_range<kBefore, true, false>(x, x_prev, v, inv_mass, f, g, h, before, rec, rec_prev, lo, hi);
+  else
+    predict_range<kBefore, true, true>(x, x_prev, v, inv_mass, f, g, h, before, rec, rec_prev, lo, hi);
+}
+
+void predict(const Model& m, State& s, const StepConfig& cfg, Real h, const VelocityUpdate& before, Real* rec,
+             Real* rec_prev) {
   Vec3* const x = s.x.data();
   Vec3* const x_prev = s.x_prev.data();
   Vec3* const v = s.v.data();
@@ -97,24 +216,20 @@ void predict(const Model& m, State& s, const StepConfig& cfg, Real h) {
   const Vec3* const f = s.f_ext.empty() ? nullptr : s.f_ext.data();
   const Vec3 g = cfg.gravity;
   detail::split(cfg.workers, s.x.size(), 1, [=](std::size_t lo, std::size_t hi) {
-    for (std::size_t i = lo; i < hi; ++i) {
-      const Vec3 xi = x[i];
-      x_prev[i] = xi;
-      Vec3 vi = v[i];
-      const Real w = inv_mass[i];
-      if (w > Real(0)) {
-        Vec3 a = g;
-        if (f != nullptr) a += w * f[i];
-        vi += h * a;
-      }
-      v[i] = vi;
-      x[i] = xi + h * vi;
-    }
+    if (before.mode == 0)
+      predict_records<0>(x, x_prev, v, inv_mass, f, g, h, before, rec, rec_prev, lo, hi);
+    else if (before.mode == 1)
+      predict_records<1>(x, x_prev, v, inv_mass, f, g, h, before, rec, rec_prev, lo, hi);
+    else
+      predict_records<2>(x, x_prev, v, inv_mass, f, g, h, before, rec, rec_prev, lo, hi);
   });
   const auto& pins = m.get<Pin>();
   for (std::size_t k = 0; k < pins.size(); ++k) {
     const Index i = pins[k].p[0];
-    if (m.inv_mass[i] == Real(0)) s.x[i] = s.pin_target_now[k];
+    if (m.inv_mass[i] == Real(0)) {
+      s.x[i] = s.pin_target_now[k];
+      if (rec != nullptr) put_record(rec + 4 * std::size_t(i), s.x[i], m.inv_mass[i]);
+    }
   }
 }
 
@@ -163,14 +278,15 @@ void reset_multipliers(State& s, bool skip_distance, bool skip_dihedral, bool sk
 // with XPBD DihedralBending and Tether over their own streams in the order
 // of m.dihedral_colours and m.tether_colours.
 void solve_constraints(const Model& m, State& s, const SolveContext& sc, const StepConfig& cfg, bool first,
-                       StageTimes* times) {
+                       StageTimes* times, int records_in) {
   const bool coloured = cfg.coloured;
   // What the particle records (State::stream_x, stream_x_prev) hold: after
   // a stream stage has copied them back, the positions (and the substep's
   // start, if that stage was damped), until an array-order stage moves a
   // particle. A stream stage then need not copy the particles in again:
   // 0 = stale, 1 = positions, 2 = positions and the substep's start.
-  int records = 0;
+  // records_in: what they hold as the sweep starts (predict writes them).
+  int records = records_in;
   auto stream_stage = [&](bool damped, auto&& sweep) {
     const int need = damped ? 2 : 1;
     sweep(records < need);
@@ -220,45 +336,6 @@ void solve_constraints(const Model& m, State& s, const SolveContext& sc, const S
           project_all<T, false>(span, s.lambdas<T>(), sc);
       }
     });
-  });
-}
-
-// v = (x - x_prev)/h, then optional drag.
-//
-// A time step that shrinks: the positions a step starts from carry the
-// constraint and contact errors the previous steps left (what a sweep per
-// substep does not remove, contacts within their slack). A substep removes
-// part of that error and v = (x - x_prev)/h turns the removed distance into
-// velocity, at 1/h: the same error removed in a substep 1000 times shorter
-// gives 1000 times the speed (a draped cloth stepped once at 1e-4 s after
-// 1/60 s flew up at 35 m/s). So while the step is shorter than
-// State::velocity_step (the last step's dt, shortened as time passes:
-// max(dt, ref - h, 0.99 ref) after each substep), a movable particle's
-// velocity is its predicted one plus only blend = (dt / ref)^2 of the
-// change the solve made: the residual's removal adds almost no speed, and
-// the forces of the short substeps lose at most about the impulse of the
-// window. blend = 1 (a step as long as the last, or longer) is the plain
-// update. Kinematic particles take (x - x_prev)/h.
-// (Split over cfg.workers when set.)
-void update_velocities(const Model& m, State& s, const StepConfig& cfg, Real h, Real blend) {
-  const Real inv_h = Real(1) / h;
-  const Real keep = cfg.drag > Real(0) ? std::exp(-cfg.drag * h) : Real(1);
-  const Real scale = inv_h * keep;
-  const Vec3* const x = s.x.data();
-  const Vec3* const x_prev = s.x_prev.data();
-  const Real* const inv_mass = m.inv_mass.data();
-  Vec3* const v = s.v.data();
-  if (blend >= Real(1)) {
-    detail::split(cfg.workers, s.x.size(), 1, [=](std::size_t lo, std::size_t hi) {
-      for (std::size_t i = lo; i < hi; ++i) v[i] = (x[i] - x_prev[i]) * scale;
-    });
-    return;
-  }
-  detail::split(cfg.workers, s.x.size(), 1, [=](std::size_t lo, std::size_t hi) {
-    for (std::size_t i = lo; i < hi; ++i) {
-      const Vec3 measured = (x[i] - x_prev[i]) * inv_h;
-      v[i] = (inv_mass[i] > Real(0) ? Vec3(v[i] + blend * (measured - v[i])) : measured) * keep;
-    }
   });
 }
 
@@ -350,21 +427,40 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
   if (hinges) timed(t, stage::step_setup, true, [&] { detail::dihedral_begin_step(m, s, h, cfg.workers); });
   const bool tethers = cfg.coloured && cfg.method == Method::xpbd && !m.get<Tether>().empty();
   if (tethers) timed(t, stage::step_setup, true, [&] { detail::tether_begin_step(m, s, h, cfg.workers); });
+  // The prediction writes the stream kernels' particle records (predict);
+  // the substep's start too if a stream stage is damped.
+  const std::size_t n4 = 4 * s.x.size();
+  const bool any_stream = (stream || hinges || tethers) && s.stream_x.size() == n4;
+  const bool damped_stream = (stream && m.has_damping[type_index_v<Distance>]) ||
+                             (hinges && m.has_damping[type_index_v<DihedralBending>]) ||
+                             (tethers && m.has_damping[type_index_v<Tether>]);
+  Real* const rec = any_stream ? s.stream_x.data() : nullptr;
+  Real* const rec_prev = any_stream && damped_stream && s.stream_x_prev.size() == n4 ? s.stream_x_prev.data() : nullptr;
   const bool chains = cfg.direct_chains && m.chains.size() > 0;
   const bool trees = cfg.direct_chains && m.trees.size() > 0;
   std::uint64_t sweeps = 0;  // in this step
+  // The particles' velocity update that the next prediction runs (predict):
+  // left to it when no stage in between touches a particle's velocity.
+  VelocityUpdate pending;
   for (int sub = 0; sub < cfg.substeps; ++sub) {
+    // What the records hold for the first sweep (solve_constraints).
+    int records = rec == nullptr ? 0 : rec_prev == nullptr ? 1 : 2;
     timed(t, stage::predict, true, [&] {
       // 1. Move kinematic targets to where they are at the end of this substep.
       interpolate_pin_targets(s, Real(sub + 1) / Real(cfg.substeps));
       // 2. Predict: external forces and inertia; rigid bodies move with their velocity.
-      predict(m, s, cfg, h);
+      predict(m, s, cfg, h, pending, rec, rec_prev);
+      pending = VelocityUpdate{};
       // Particles that left the path their contacts cover get new ones
       // from the host (bodies it adds are at this substep's start, as the
-      // others are until predict_bodies below).
+      // others are until predict_bodies below). The host is not asked to
+      // keep the records: they are written again after it ran.
       if (refresh) {
         const std::size_t contacts = s.contacts.size(), bodies = s.bodies.size();
-        if (refresh_escaped(m, s, cfg, sub, h)) rigid::contacts_added(m, s, contacts, bodies);
+        if (refresh_escaped(m, s, cfg, sub, h)) {
+          rigid::contacts_added(m, s, contacts, bodies);
+          records = 0;
+        }
       }
       // After predict: restitution's reference is the normal velocity with
       // this substep's gravity included (Mueller et al. 2020), not before it.
@@ -377,8 +473,10 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
       reset_multipliers(s, stream, hinges, tethers);
     });
     // StepConfig::hierarchy: the coarse levels' one-sided pass.
-    if (cfg.hierarchy)
+    if (cfg.hierarchy) {
       timed(t, stage::of<Distance>, true, [&] { detail::hierarchy_pass(m, s, cfg.hierarchy_slack); });
+      records = 0;
+    }
     // 3. Solve: `iterations` Gauss-Seidel sweeps over all constraints, then
     // up to `contact_sweeps` more while a contact is violated when the
     // contacts' turn comes in the sweep (after the first sweep: the
@@ -398,7 +496,7 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
       // substep, and one substep per step, alternate too), runs last to first.
       sc.reverse = cfg.alternate_sweeps && ((s.sweeps + sweeps) & 1) != 0;
       ++sweeps;
-      solve_constraints(m, s, sc, cfg, it == 0, t);
+      solve_constraints(m, s, sc, cfg, it == 0, t, it == 0 ? records : 0);
       if (chains) timed(t, stage::of<Distance>, true, [&] { detail::chains_solve(m, s, h, stream, cfg.chain_passes, cfg.chain_tolerance); });
       if (trees) timed(t, stage::of<Distance>, true, [&] { detail::trees_solve(m, s, h, stream, cfg.chain_passes, cfg.chain_tolerance); });
       timed(t, stage::self_collision_solve, !s.self_collision.pairs.empty(),
@@ -427,7 +525,14 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
       // tolerance controller) take the plain update.
       const Real r = cfg.dt < s.velocity_step ? cfg.dt / s.velocity_step : Real(1);
       const Real blend = r * r;
-      update_velocities(m, s, cfg, h, blend);
+      // Left to the next substep's prediction if that comes next for the
+      // particles: not after the last substep, nor before the contacts'
+      // friction and restitution (stage 5).
+      const VelocityUpdate u = velocity_update(cfg, h, blend);
+      if (sub + 1 < cfg.substeps && s.contacts.empty() && s.triangle_contacts.empty())
+        pending = u;
+      else
+        update_velocities(m, s, cfg, u);
       rigid::update_body_velocities(s.bodies, h, blend);
       s.velocity_step = std::max({cfg.dt, s.velocity_step - h, Real(0.99) * s.velocity_step});
     });

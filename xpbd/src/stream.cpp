@@ -51,11 +51,21 @@ Simd simd_level(bool simd) {
 }
 
 namespace {
-void pack(const std::vector<Vec3>& x, const std::vector<Real>& inv_mass, Real* out, std::size_t lo,
-          std::size_t hi) {
+// Plain pointers, not the vectors: a store through `out` could change a
+// vector's own data pointer as far as the compiler knows, which it then
+// loaded again in every iteration (the same holds for pointers captured in
+// a lambda that split() hands to the threads: step.cpp, predict_range).
+void pack(const Vec3* x, const Real* inv_mass, Real* out, std::size_t lo, std::size_t hi) {
   for (std::size_t i = lo; i < hi; ++i) {
     Real* r = out + 4 * i;
     r[0] = x[i].x(), r[1] = x[i].y(), r[2] = x[i].z(), r[3] = inv_mass[i];
+  }
+}
+
+void unpack(const Real* px, Vec3* x, std::size_t lo, std::size_t hi) {
+  for (std::size_t i = lo; i < hi; ++i) {
+    const Real* r = px + 4 * i;
+    x[i] = Vec3(r[0], r[1], r[2]);
   }
 }
 }  // namespace
@@ -69,20 +79,19 @@ void size_records(const Model& m, State& s, bool damped) {
 void pack_records(const Model& m, State& s, bool damped, Workers* workers) {
   Real* const px = s.stream_x.data();
   Real* const pprev = damped ? s.stream_x_prev.data() : nullptr;
-  split(workers, s.x.size(), 1, [&](std::size_t lo, std::size_t hi) {
-    pack(s.x, m.inv_mass, px, lo, hi);
-    if (damped) pack(s.x_prev, m.inv_mass, pprev, lo, hi);
+  const Vec3* const x = s.x.data();
+  const Vec3* const x_prev = s.x_prev.data();
+  const Real* const inv_mass = m.inv_mass.data();
+  split(workers, s.x.size(), 1, [=](std::size_t lo, std::size_t hi) {
+    pack(x, inv_mass, px, lo, hi);
+    if (pprev != nullptr) pack(x_prev, inv_mass, pprev, lo, hi);
   });
 }
 
 void unpack_records(State& s, Workers* workers) {
   const Real* const px = s.stream_x.data();
-  split(workers, s.x.size(), 1, [&](std::size_t lo, std::size_t hi) {
-    for (std::size_t i = lo; i < hi; ++i) {
-      const Real* r = px + 4 * i;
-      s.x[i] = Vec3(r[0], r[1], r[2]);
-    }
-  });
+  Vec3* const x = s.x.data();
+  split(workers, s.x.size(), 1, [=](std::size_t lo, std::size_t hi) { unpack(px, x, lo, hi); });
 }
 
 void pair_begin_step(const Model& m, State& s, const PairStream& p, bool damped, Real h, Workers* workers) {

@@ -29,7 +29,9 @@ namespace stage {
 inline constexpr std::size_t step_setup = 0;
 // Once per step: the self-collision candidate search (spatial hash).
 inline constexpr std::size_t self_collision_search = 1;
-// Every substep: pin targets, particle and body prediction, multiplier reset.
+// Every substep: pin targets, particle and body prediction, multiplier reset;
+// and the previous substep's particle velocity update when no contact
+// needs the velocities in between (step() runs both in one pass).
 inline constexpr std::size_t predict = 2;
 // Every iteration: one stage per constraint type, at first_constraint +
 // type_index_v<T> (ConstraintTypes order).
@@ -39,7 +41,9 @@ inline constexpr std::size_t self_collision_solve = first_constraint + kNumConst
 inline constexpr std::size_t body_attachments = self_collision_solve + 1;
 inline constexpr std::size_t body_contacts = body_attachments + 1;
 inline constexpr std::size_t triangle_contacts = body_contacts + 1;
-// Every substep: particle and body velocities from the position change.
+// Every substep: particle and body velocities from the position change
+// (the particles' in `predict` of the next substep, but for the last
+// substep, when the step has no particle or triangle contacts).
 inline constexpr std::size_t velocity_update = triangle_contacts + 1;
 // Every substep: dynamic friction and restitution of body contacts.
 inline constexpr std::size_t contact_velocities = velocity_update + 1;
