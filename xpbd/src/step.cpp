@@ -15,6 +15,7 @@
 #include "chains_solve.hpp"
 #include "trees_solve.hpp"
 #include "hierarchy.hpp"
+#include "predict_kernel.hpp"
 #include "stream.hpp"
 
 namespace xpbd {
@@ -215,7 +216,29 @@ void predict(const Model& m, State& s, const StepConfig& cfg, Real h, const Velo
   const Real* const inv_mass = m.inv_mass.data();
   const Vec3* const f = s.f_ext.empty() ? nullptr : s.f_ext.data();
   const Vec3 g = cfg.gravity;
+  // The AVX-512 kernel (predict_avx512.cpp, the same bits) takes whole
+  // batches of particles, this loop the rest.
+#if XPBD_HAVE_AVX512_KERNEL
+  const bool wide = detail::simd_level(cfg.simd) == detail::Simd::avx512 && !s.x.empty();
+  detail::PredictArgs args;
+  if (wide) {  // (no particles: no arrays to point into)
+    args.x = x->data();
+    args.x_prev = x_prev->data();
+    args.v = v->data();
+    args.inv_mass = inv_mass;
+    args.f = f != nullptr ? f->data() : nullptr;
+    for (int c = 0; c < 3; ++c) args.g[c] = g[c];
+    args.h = h;
+    args.before = before.mode;
+    args.scale = before.scale, args.inv_h = before.inv_h, args.keep = before.keep, args.blend = before.blend;
+    args.rec = rec;
+    args.rec_prev = rec_prev;
+  }
+#endif
   detail::split(cfg.workers, s.x.size(), 1, [=](std::size_t lo, std::size_t hi) {
+#if XPBD_HAVE_AVX512_KERNEL
+    if (wide) lo = detail::predict_avx512(args, lo, hi);
+#endif
     if (before.mode == 0)
       predict_records<0>(x, x_prev, v, inv_mass, f, g, h, before, rec, rec_prev, lo, hi);
     else if (before.mode == 1)

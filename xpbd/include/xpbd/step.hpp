@@ -97,9 +97,10 @@ struct StepConfig {
   // its two pins ("bench_tethers"): 1.9-2.2x in double.
   bool coloured = false;
   // The coloured XPBD sweep runs the widest kernel this CPU has
-  // (simd_kernel(): AVX-512, AVX2 or scalar; set_simd_kernel caps it). Off
-  // = the scalar kernel. All give the same results bit for bit; this exists
-  // to measure one against the other.
+  // (simd_kernel(): AVX-512, AVX2 or scalar; set_simd_kernel caps it), and
+  // the prediction (every substep, in either order) runs an AVX-512 kernel
+  // where that is the kernel. Off = the scalar kernels. All give the same
+  // results bit for bit; this exists to measure one against the other.
   bool simd = true;
   // Threads for the coloured XPBD Distance, DihedralBending and Tether
   // sweeps and the per-particle stages (workers.hpp; needs coloured,
