@@ -113,10 +113,12 @@ TEST(WorldSettings, HierarchyHoldsAStiffRopeAtItsSlack) {
   EXPECT_LT(strain[1], Real(0.015));  // hierarchy: the largest strain
 }
 
-// A 48 x 48 cloth dropped onto a static sphere, coloured, with and without
+// A 64 x 64 cloth dropped onto a static sphere, coloured, with and without
 // a pool of two threads: the same state bit for bit after 60 steps (the
-// threads only split the colours; StepConfig::workers; its colours hold
-// about 1,100 distance elements, so they are split).
+// threads split the colours and the passes over the particles;
+// StepConfig::workers; its colours hold about 2,000 distance elements, so
+// they are split: from 2 x 768 on, and the particle passes from 2 x 1024
+// particles on, xpbd/src/stream.hpp).
 TEST(WorldSettings, WorkersGiveTheSameClothBitForBit) {
   std::vector<Vec3> x[2];
   for (int threaded = 0; threaded < 2; ++threaded) {
@@ -125,7 +127,7 @@ TEST(WorldSettings, WorkersGiveTheSameClothBitForBit) {
     XpbdWorld xw(bw.world());
     xpbd::SceneDesc scene;
     xpbd::ClothGridDesc c;
-    c.nx = c.ny = 48;
+    c.nx = c.ny = 64;
     c.u = Vec3::UnitX();
     c.v = Vec3::UnitZ();
     c.origin = Vec3(-0.5, 0.5, -0.5);

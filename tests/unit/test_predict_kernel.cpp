@@ -2,12 +2,13 @@
 // scalar loop (step.cpp, predict_range): step() with StepConfig::simd on and
 // off, and with the kernel capped at AVX2 (which runs the scalar
 // prediction), must give the same bits. The scene exercises each path of
-// the kernel: a particle count that leaves a partial batch (1 + 13 x 12 =
-// 157 = 9 x 16 + 13 = 19 x 8 + 5), kinematic particles with and without a
-// pin, external forces, damped streams (the records of the substep's
+// the kernel: a particle count that leaves a partial batch (1 + 46 x 45 =
+// 2071 = 129 x 16 + 7 = 258 x 8 + 7), kinematic particles with and without
+// a pin, external forces, damped streams (the records of the substep's
 // start), drag, a shorter step after longer ones (the blended velocity
-// update), the array order and the coloured one, and two threads (ranges
-// that start inside a batch).
+// update), the array order and the coloured one, and two threads (the
+// particle passes are split from 2 x 1024 particles on, stream.hpp; the
+// second range starts at particle 1035, inside a batch).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -30,13 +31,13 @@ struct Outcome {
 Outcome run(bool damped, bool coloured, bool simd, int threads) {
   SceneDesc scene;
   ClothGridDesc d;
-  d.nx = 13;
-  d.ny = 12;
+  d.nx = 46;
+  d.ny = 45;
   d.size_u = d.size_v = 1;
   d.u = Vec3::UnitX();
   d.v = Vec3::UnitZ();
   d.mass = 1;
-  d.pinned = {{0, 0}, {12, 0}};
+  d.pinned = {{0, 0}, {45, 0}};
   d.stretch.compliance = Real(1e-6);
   d.shear_mat.compliance = Real(1e-5);
   d.bend_mat.compliance = Real(1e-4);

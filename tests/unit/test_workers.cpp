@@ -4,6 +4,8 @@
 // CPU has it, and with the scalar kernel).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <atomic>
 #include <chrono>
 #include <stdexcept>
@@ -102,16 +104,16 @@ TEST(Workers, BadThreadCountAndMissingColoursAreNamed) {
   EXPECT_TRUE(test::config_error_names(m, s, cfg, {"StepConfig.workers", "coloured"}));
 }
 
-// A 48 x 48 cloth pinned at two corners, falling and swinging for 30
+// A 64 x 64 cloth pinned at two corners, falling and swinging for 30
 // steps: coloured XPBD (damped, alternating sweep directions), with and
 // without threads. Positions, velocities and multipliers equal bit for
-// bit. (Its colours hold about 1,100 distance elements each, so they are
-// split; PBD's coloured sweep is not threaded.) With `bending`, a 64 x 64
-// cloth with dihedral bending.
+// bit. (Its colours hold about 2,000 distance elements each, so they are
+// split: from 2 x 768 on, stream.hpp; PBD's coloured sweep is not
+// threaded.) With `bending`, with dihedral bending too.
 void check_bitwise(Method method, int threads, bool simd, bool bending) {
   SceneDesc d;
   ClothGridDesc g;
-  g.nx = g.ny = 48;
+  g.nx = g.ny = 64;
   g.pins = ClothPins::top_corners;
   g.u = Vec3::UnitX();
   g.v = Vec3::UnitZ();  // horizontal: it falls and swings about the pinned edge
@@ -120,11 +122,14 @@ void check_bitwise(Method method, int threads, bool simd, bool bending) {
   // well): on 64 x 64 its 14 colours hold 840 hinges on average, so most
   // are split.
   if (bending) {
-    g.nx = g.ny = 64;
     g.set_bending(ClothBending::dihedral, Material{Real(1e-4), Real(0.5), 1});
   }
   add_cloth_grid(d, g);
   const Model m = compile(d);
+  Index largest = 0;  // distance elements in the largest colour
+  for (Index c = 0; c < m.distance_colours.num_colours(); ++c)
+    largest = std::max(largest, m.distance_colours.begin[std::size_t(c) + 1] - m.distance_colours.begin[std::size_t(c)]);
+  ASSERT_GE(largest, 2 * 768) << "no colour is large enough to be split (stream.hpp, kMinDistancePerTask)";
   State one = make_state(m), many = make_state(m);
   StepConfig cfg;
   cfg.method = method;

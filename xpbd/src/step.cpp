@@ -147,7 +147,7 @@ void update_velocities(const Model& m, State& s, const StepConfig& cfg, const Ve
       velocity_range<1>(x, x_prev, inv_mass, v, u, lo, hi);
     else
       velocity_range<2>(x, x_prev, inv_mass, v, u, lo, hi);
-  });
+  }, detail::kMinParticlesPerTask);
 }
 
 // Symplectic Euler prediction: x_prev = x, v += h (g + f/m), x += h v.
@@ -245,7 +245,7 @@ void predict(const Model& m, State& s, const StepConfig& cfg, Real h, const Velo
       predict_records<1>(x, x_prev, v, inv_mass, f, g, h, before, rec, rec_prev, lo, hi);
     else
       predict_records<2>(x, x_prev, v, inv_mass, f, g, h, before, rec, rec_prev, lo, hi);
-  });
+  }, detail::kMinParticlesPerTask);
   const auto& pins = m.get<Pin>();
   for (std::size_t k = 0; k < pins.size(); ++k) {
     const Index i = pins[k].p[0];

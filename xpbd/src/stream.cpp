@@ -85,13 +85,13 @@ void pack_records(const Model& m, State& s, bool damped, Workers* workers) {
   split(workers, s.x.size(), 1, [=](std::size_t lo, std::size_t hi) {
     pack(x, inv_mass, px, lo, hi);
     if (pprev != nullptr) pack(x_prev, inv_mass, pprev, lo, hi);
-  });
+  }, kMinParticlesPerTask);
 }
 
 void unpack_records(State& s, Workers* workers) {
   const Real* const px = s.stream_x.data();
   Vec3* const x = s.x.data();
-  split(workers, s.x.size(), 1, [=](std::size_t lo, std::size_t hi) { unpack(px, x, lo, hi); });
+  split(workers, s.x.size(), 1, [=](std::size_t lo, std::size_t hi) { unpack(px, x, lo, hi); }, kMinParticlesPerTask);
 }
 
 void pair_begin_step(const Model& m, State& s, const PairStream& p, bool damped, Real h, Workers* workers) {
@@ -136,7 +136,9 @@ void pair_sweep(const Model& m, State& s, const PairStream& p, const SolveContex
   a.x = s.stream_x.data();
   a.x_prev = damped ? s.stream_x_prev.data() : nullptr;
   const PairKernel k = pick_kernel(simd_level(simd), p.scalar, p.avx2, p.avx512);
-  sweep_colours(p.colours, sc.reverse, workers, [&](std::size_t lo, std::size_t hi) { k(a, lo, hi, damped, first); });
+  sweep_colours(
+      p.colours, sc.reverse, workers, [&](std::size_t lo, std::size_t hi) { k(a, lo, hi, damped, first); },
+      p.min_per_task);
   unpack_records(s, workers);
 }
 
@@ -154,8 +156,8 @@ PairStream distance_pair(const Model& m, State& s) {
 #else
   const PairKernel avx512 = nullptr;
 #endif
-  return {m.distance_stream, m.distance_colours, s.stream_at,     s.stream_inv_den,
-          s.stream_gamma,    s.stream_lambda,    &project_stream_scalar, avx2, avx512};
+  return {m.distance_stream, m.distance_colours,      s.stream_at, s.stream_inv_den, s.stream_gamma,
+          s.stream_lambda,   &project_stream_scalar, avx2,        avx512,           kMinDistancePerTask};
 }
 }  // namespace
 

@@ -21,11 +21,18 @@ namespace detail {
 // multiples of `align` (so that vector batches stay whole), on the workers
 // when there are several and n is at least 2 * kMinPerTask.
 constexpr std::size_t kMinPerTask = 256;
+// The passes over the particles (the prediction, the velocity update, the
+// records' copies): from 2 x 1024 particles on. With this and
+// kMinDistancePerTask (below) two threads went from 0.74-0.75x one thread
+// to 0.93-0.95x on a 32 x 32 cloth, and were unchanged from 64 x 64 up;
+// either alone changed nothing (docs/benchmarks.md, "Where threads start
+// to pay").
+constexpr std::size_t kMinParticlesPerTask = 1024;
 
 template <class F>
-void split(Workers* w, std::size_t n, std::size_t align, F&& f) {
+void split(Workers* w, std::size_t n, std::size_t align, F&& f, std::size_t min_per_task = kMinPerTask) {
   int tasks = 1;
-  if (w != nullptr && n >= 2 * kMinPerTask) tasks = std::min(w->threads(), static_cast<int>(n / kMinPerTask));
+  if (w != nullptr && n >= 2 * min_per_task) tasks = std::min(w->threads(), static_cast<int>(n / min_per_task));
   if (tasks <= 1) {
     f(std::size_t(0), n);
     return;
@@ -42,13 +49,15 @@ void split(Workers* w, std::size_t n, std::size_t align, F&& f) {
 // Calls kernel(lo, hi) over each colour of `cs` in turn (last to first if
 // `reverse`), each split over the workers in pieces whose bounds are
 // multiples of 16 (whole vector batches of every kernel).
+// A colour is split only from 2 * min_per_task elements on.
 template <class K>
-void sweep_colours(const ColourSchedule& cs, bool reverse, Workers* workers, K&& kernel) {
+void sweep_colours(const ColourSchedule& cs, bool reverse, Workers* workers, K&& kernel,
+                   std::size_t min_per_task = kMinPerTask) {
   const Index colours = cs.num_colours();
   for (Index j = 0; j < colours; ++j) {
     const auto c = static_cast<std::size_t>(reverse ? colours - 1 - j : j);
     const auto b = static_cast<std::size_t>(cs.begin[c]), e = static_cast<std::size_t>(cs.begin[c + 1]);
-    split(workers, e - b, 16, [&](std::size_t lo, std::size_t hi) { kernel(b + lo, b + hi); });
+    split(workers, e - b, 16, [&](std::size_t lo, std::size_t hi) { kernel(b + lo, b + hi); }, min_per_task);
   }
 }
 
@@ -89,7 +98,13 @@ struct PairStream {
   std::vector<Real>& gamma;
   std::vector<Real>& lambda;
   PairKernel scalar, avx2, avx512;  // null where the library has no such kernel
+  // The least elements of a colour per thread (sweep_colours).
+  std::size_t min_per_task = kMinPerTask;
 };
+// The Distance colours' threshold: 256 elements are about 0.75 us of
+// AVX-512 work, as much as handing out an empty job to two threads (about
+// 0.75 us); see kMinParticlesPerTask.
+constexpr std::size_t kMinDistancePerTask = 768;
 // Sizes the scratch and computes each element's at, 1/den and gamma for
 // substeps of h (one element at a time; the same operations in every build).
 void pair_begin_step(const Model& m, State& s, const PairStream& p, bool damped, Real h, Workers* workers);

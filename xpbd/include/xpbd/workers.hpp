@@ -24,8 +24,10 @@
 // CPU. On the 2-core development machine a helper starts its task a median
 // 0.45 us after the job is out, and a run of 2 empty tasks costs about
 // 760-780 ns (140-260 ns when the calling thread used to take both).
-// Below 64 x 64 two threads cost: 0.81x at 32 x 32 (docs/benchmarks.md,
-// "Left open: 32^2"). One Workers serves one step() at a time; it is not itself
+// Threads pay from about 64 x 64 up; the sweeps split only pieces large
+// enough (xpbd/src/stream.hpp), and at 32 x 32 two threads give
+// 0.93-0.95x one thread (docs/benchmarks.md, "Where threads start to
+// pay"). One Workers serves one step() at a time; it is not itself
 // thread-safe. An exception thrown by f is rethrown by run() (the first
 // one), after every task has finished.
 #include <atomic>
