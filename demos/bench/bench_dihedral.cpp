@@ -1,4 +1,4 @@
-// Dihedral bending projection benchmark (docs/benchmarks.md,
+// Dihedral bending projection benchmark (docs/bench-dihedral.md,
 // "bench_dihedral").
 //
 // Scene: a 64 x 64 cloth (1 m x 1 m, 1 kg, two corners pinned, structural

@@ -18,7 +18,7 @@
 //                         within 5 mm at 10 substeps).
 // Compare within one run (the machine is shared): the checks' cost is
 // checks:1 / checks:0 - 1, the target's target:1 / target:0 - 1.
-// docs/benchmarks.md runs it as
+// docs/bench-bridge.md runs it as
 //   bench_health --benchmark_enable_random_interleaving=true
 //                --benchmark_repetitions=10 --benchmark_min_time=0.2
 #include <benchmark/benchmark.h>

@@ -1,5 +1,5 @@
 // Accuracy per unit time of the two Gauss-Seidel orders of the Distance
-// elements (docs/benchmarks.md, "Accuracy per unit time"): the array order
+// elements (docs/bench-coloured.md, "Accuracy per unit time"): the array order
 // and the coloured order (StepConfig::coloured: the stream kernel, AVX2
 // where the CPU has it), on the seed's Fig. 5 cloth at 64 x 64.
 //

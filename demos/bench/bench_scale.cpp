@@ -1,6 +1,6 @@
 // Cost against size: the coloured XPBD step on cloths from 32 x 32 to
 // 1024 x 1024 particles, at 1 and 2 threads, and the cost of one barrier of
-// the thread pool (docs/benchmarks.md, "bench_scale").
+// the thread pool (docs/bench-threads.md, "bench_scale").
 //
 // Scene: an N x N cloth (1 m x 1 m, 1 kg, horizontal, two corners pinned,
 // structural + shear + bending-distance edges, compliances 1e-6 / 1e-5 /

@@ -1,4 +1,4 @@
-// Tether projection benchmark (docs/benchmarks.md, "bench_tethers").
+// Tether projection benchmark (docs/bench-tethers.md, "bench_tethers").
 //
 // Scene: a 64 x 64 cloth (1 m x 1 m, 1 kg, two corners pinned, structural,
 // shear and bending distance edges as the builder's defaults, rigid) with a

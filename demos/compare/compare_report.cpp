@@ -179,7 +179,7 @@ void below_one(std::ostringstream& md, const std::vector<Row>& rows, const std::
           if (const Row* b = find(scene, "xpbd", label(a))) e.push_back(judged_error(a, judge) / judged_error(*b, judge));
       if (!e.empty())
         md << " At the same budgets the coloured order's error is " << fmt(median(e))
-           << "x array-order XPBD's (median; a different Gauss-Seidel order, docs/benchmarks.md).";
+           << "x array-order XPBD's (median; a different Gauss-Seidel order, docs/bench-coloured.md).";
     }
     md << "\n";
   }

@@ -151,7 +151,7 @@ PairStream distance_pair(const Model& m, State& s) {
 #endif
 #if XPBD_HAVE_AVX512_KERNEL && XPBD_DOUBLE
   // In float the AVX-512 Distance kernel was no faster than the AVX2 one
-  // (docs/benchmarks.md, "The AVX-512 kernels"), so float keeps AVX2 here.
+  // (docs/bench-coloured.md, "The AVX-512 kernels"), so float keeps AVX2 here.
   const PairKernel avx512 = &project_stream_avx512;
 #else
   const PairKernel avx512 = nullptr;

@@ -25,7 +25,7 @@ constexpr std::size_t kMinPerTask = 256;
 // records' copies): from 2 x 1024 particles on. With this and
 // kMinDistancePerTask (below) two threads went from 0.74-0.75x one thread
 // to 0.93-0.95x on a 32 x 32 cloth, and were unchanged from 64 x 64 up;
-// either alone changed nothing (docs/benchmarks.md, "Where threads start
+// either alone changed nothing (docs/bench-threads.md, "Where threads start
 // to pay").
 constexpr std::size_t kMinParticlesPerTask = 1024;
 

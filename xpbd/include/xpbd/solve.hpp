@@ -15,7 +15,7 @@
 //     division by the denominator) be done before the positions are read,
 //     which shortens the chain of dependent operations from one projection
 //     to the next (Gauss-Seidel: a projection reads what the previous ones
-//     wrote). See docs/benchmarks.md for the measured effect.
+//     wrote). See docs/bench-distance.md for the measured effect.
 // Both compute the same update, to round-off, in the same (array) order;
 // tests/unit/test_solve_pair_distance.cpp checks that.
 //
@@ -271,7 +271,7 @@ void project_all(std::span<const T> cs, std::span<Real> lambda, const SolveConte
 // by_colour[j]). Runs the pair-distance kernel over by_colour, so the result
 // equals project_all over the elements laid out in schedule order. Within a
 // colour consecutive projections share no particle, so none waits for the
-// previous one's store (docs/benchmarks.md, "Coloured sweep"). A reversed
+// previous one's store (docs/bench-coloured.md, "Coloured sweep"). A reversed
 // sweep (sc.reverse) runs by_colour last to first: the colours last to first
 // (the order within a colour does not change the result).
 template <class T, bool kDamped>

@@ -82,12 +82,12 @@ struct StepConfig {
   // over their compiled forms (dihedral_stream.hpp, distance_stream.hpp;
   // AVX2 where the CPU has it). Off by default: ahead per unit time on free
   // cloths and chains, but worse in depth where a heavy body squeezes cloth
-  // (docs/benchmarks.md, "The switch tried, and not made"). Every other type keeps the
+  // (docs/bench-coloured.md, "The switch tried, and not made"). Every other type keeps the
   // array order. This is a different Gauss-Seidel order, so the result
   // differs from the array order's (both converge to the same solution, at
   // different rates). With alternate_sweeps, the reversed sweeps visit the
   // colours last to first. Measured on the 64 x 64 hanging cloth
-  // (docs/benchmarks.md, "Coloured sweep"): 12 colours; with the AVX2
+  // (docs/bench-coloured.md, "Coloured sweep"): 12 colours; with the AVX2
   // kernel an XPBD step is 2.1-2.4x (double) and 2.6-3.1x (float) as fast
   // as in array order; per sweep it converges less (mean strain 1.3-1.7x
   // the array order's at the same budget). With the earlier scalar coloured

@@ -15,7 +15,7 @@
 // them in its own cache (when any free thread took the next task, a piece
 // often moved between cores, and two threads gave the coloured step
 // 0.94-1.03x at 64 x 64 and 1.32-1.37x at 128 x 128, where they now give
-// 1.16-1.32x and 1.64-1.76x; docs/benchmarks.md, "Threads"). run() waits
+// 1.16-1.32x and 1.64-1.76x; docs/bench-threads.md, "Threads"). run() waits
 // for the tasks, not for the helpers: when a helper is not running (more
 // threads than free cores), the others take its tasks instead of waiting
 // for it to be scheduled. Waiting threads poll (up to 100,000 polls,
@@ -26,7 +26,7 @@
 // 760-780 ns (140-260 ns when the calling thread used to take both).
 // Threads pay from about 64 x 64 up; the sweeps split only pieces large
 // enough (xpbd/src/stream.hpp), and at 32 x 32 two threads give
-// 0.93-0.95x one thread (docs/benchmarks.md, "Where threads start to
+// 0.93-0.95x one thread (docs/bench-threads.md, "Where threads start to
 // pay"). One Workers serves one step() at a time; it is not itself
 // thread-safe. An exception thrown by f is rethrown by run() (the first
 // one), after every task has finished.
