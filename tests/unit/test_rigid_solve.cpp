@@ -442,6 +442,47 @@ TEST(RigidSolve, ParticleBetweenGroundAndAHeavyBodyIsARigidSpacer) {
   EXPECT_NEAR(double(s.bodies[0].x.y()), 2 * double(t) + 0.05, tol);
 }
 
+// A heavy body sliding at v0 on a light particle that lies on the static
+// ground (a box sliding on a cloth), friction mu on both sides: Coulomb's
+// law between the two bodies stops the body after v0^2 / (2 mu g), and the
+// ground holds the particle (its cone, mu (M + m) g, is the wider). Solved
+// one by one, the body's friction only brought the particle up to the
+// body's speed and the ground's stopped it again: the body lost the
+// particle's momentum per substep and slid on (contact_block.cpp).
+TEST(RigidSolve, BodySlidingOnAParticleOnTheGroundStopsAtTheCoulombDistance) {
+  const Real t = Real(0.005), v0 = 1, mu = Real(0.4), g = Real(9.81);
+  xpbd::SceneDesc scene;
+  scene.add_particle(Vec3(0, t, 0), Real(1e-3));
+  const xpbd::Model m = xpbd::compile(scene);
+  xpbd::State s = xpbd::make_state(m);
+  xpbd::RigidBody b;  // 100 kg, resting on the particle, not turning
+  b.x = Vec3(0, 2 * t + Real(0.05), 0);
+  b.v = Vec3(v0, 0, 0);
+  b.inv_mass = Real(0.01);
+  b.accel = Vec3(0, -g, 0);
+  s.bodies.push_back(b);
+  xpbd::BodyContact ground;
+  ground.particle = 0;
+  ground.body = -1;
+  ground.thickness = t;
+  ground.static_friction = ground.dynamic_friction = mu;
+  xpbd::BodyContact face = ground;  // the body's bottom face
+  face.body = 0;
+  face.r = Vec3(0, -0.05, 0);
+  face.n = Vec3(0, -1, 0);
+  s.contacts = {ground, face};
+  xpbd::StepConfig cfg;
+  cfg.gravity = Vec3(0, -g, 0);
+  cfg.substeps = 20;
+  for (int k = 0; k < 40; ++k) xpbd::step(m, s, cfg);
+  const Real expected = v0 * v0 / (2 * mu * g);  // 0.127 m, in 0.25 s
+  // Discretisation: of the order of a substep's travel, v0 h ~ 0.8 mm.
+  EXPECT_NEAR(double(s.bodies[0].x.x()), double(expected), 0.02 * double(expected));
+  EXPECT_LT(double(s.bodies[0].v.norm()), 1e-3);
+  EXPECT_NEAR(double(s.x[0].x()), 0.0, 1e-4);  // held by the ground
+  EXPECT_NEAR(double(s.bodies[0].x.y()), 2 * double(t) + 0.05, 1e-4);
+}
+
 }  // namespace
 
 }  // namespace XPBD_TEST_FILE_ID

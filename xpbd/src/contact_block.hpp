@@ -18,4 +18,11 @@ inline constexpr int kMaxJointContacts = 4;
 // caller then solves the contacts one by one.
 bool solve_contact_group(const Model& m, State& s, std::size_t head, Real inv_h2);
 
+// The friction of the same chain, jointly (static friction with a clamp to
+// the dynamic cone; contact_block.cpp), for the contacts that push and have
+// friction; each gets ContactLambda::joint. Returns false, changing
+// nothing, if fewer than two such contacts (or more than kMaxJointContacts)
+// or a degenerate input; the caller then solves the friction one by one.
+bool solve_friction_group(const Model& m, State& s, std::size_t head);
+
 }  // namespace xpbd::rigid

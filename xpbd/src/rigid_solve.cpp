@@ -258,13 +258,14 @@ void solve_contacts(const Model& m, State& s, Real h) {
       solve_contact_friction(m, s, k);
       continue;
     }
-    // Two or more contacts on one particle: their normal parts jointly
-    // (contact_block.cpp), then each one's friction.
+    // Two or more contacts on one particle: their normal parts jointly, then
+    // their friction jointly (contact_block.cpp).
     if (!solve_contact_group(m, s, k, inv_h2))
       for (Index j = Index(k); j >= 0; j = s.contact_next[static_cast<std::size_t>(j)])
         solve_contact_normal(m, s, static_cast<std::size_t>(j), inv_h2);
-    for (Index j = Index(k); j >= 0; j = s.contact_next[static_cast<std::size_t>(j)])
-      solve_contact_friction(m, s, static_cast<std::size_t>(j));
+    if (!solve_friction_group(m, s, k))
+      for (Index j = Index(k); j >= 0; j = s.contact_next[static_cast<std::size_t>(j)])
+        solve_contact_friction(m, s, static_cast<std::size_t>(j));
   }
 }
 
@@ -556,7 +557,7 @@ void contact_velocities(const Model& m, State& s, Real h, Real gravity_norm) {
 
     // Dynamic Coulomb friction: the tangential impulse is at most
     // mu_d * (normal impulse lambda_n / h) and never reverses the sliding.
-    if (c.dynamic_friction > Real(0) && vt_len > Real(0)) {
+    if (c.dynamic_friction > Real(0) && vt_len > Real(0) && !l.joint) {
       const Vec3 t = vt / vt_len;
       const Real wt = wp + inv_mass_along(b, f.rw, t);
       if (wt > Real(0)) {
