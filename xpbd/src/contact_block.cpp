@@ -177,8 +177,9 @@ bool solve_contact_group(const Model& m, State& s, std::size_t head, Real inv_h2
 // particle up to the box's speed (it moves the particle, not the box, with
 // inverse masses ~1000 : 0.001), and the ground's then stops the particle
 // again. The box loses only the momentum of the particles under it in each
-// substep, so a 1000 kg box slid at 0.98 m/s/s less than mu g: it slid
-// 1.56 m where Coulomb stops it in 0.20 m (docs/squeeze.md).
+// substep: a 1000 kg box pushed at 1 m/s slowed by 0.025 m/s^2 where
+// Coulomb gives mu g = 4.9 m/s^2, and slid 1.56 m where it stops in
+// 0.10 m (docs/squeeze.md).
 //
 // The problem. For each contact i that pushes (lambda_n,i > 0) and has
 // friction, g_i = T_i^T ((x_p - x_p,start) - (p_i - p_i,start)) is the
