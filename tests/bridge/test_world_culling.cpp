@@ -228,6 +228,12 @@ void expect_same_triangle_step(const xpbd::State& a, const xpbd::State& b, const
     ASSERT_TRUE(p.body == q.body && p.r == q.r && p.tri == q.tri && p.side == q.side && p.thickness == q.thickness)
         << where << ", triangle contact " << c;
   }
+  ASSERT_EQ(a.edge_contacts.size(), b.edge_contacts.size()) << where;
+  for (std::size_t c = 0; c < a.edge_contacts.size(); ++c) {
+    const xpbd::BodyEdgeContact &p = a.edge_contacts[c], &q = b.edge_contacts[c];
+    ASSERT_TRUE(p.body == q.body && p.a == q.a && p.b == q.b && p.p == q.p && p.out == q.out)
+        << where << ", edge contact " << c;
+  }
   ASSERT_EQ(a.x, b.x) << where;
   ASSERT_EQ(a.v, b.v) << where;
 }
@@ -238,7 +244,7 @@ void expect_same_triangle_step(const xpbd::State& a, const xpbd::State& b, const
 // boxes, a hull, a compound and a fast-spinning box.
 TEST(WorldCulling, TriangleHierarchyGivesTheLoopsTriangleContacts) {
   Scene bvh(true, true, 0), loop(true, true, std::numeric_limits<int>::max());
-  long triangle_contacts = 0;
+  long triangle_contacts = 0, edge_contacts = 0;
   std::map<std::string, int> per_body;
   for (int k = 0; k < 60; ++k) {
     bvh.bw.step();
@@ -248,11 +254,15 @@ TEST(WorldCulling, TriangleHierarchyGivesTheLoopsTriangleContacts) {
     ASSERT_NO_FATAL_FAILURE(expect_same_triangle_step(a, loop.xw->state(loop.cloth), where));
     for (const auto& c : a.triangle_contacts) ++per_body[bvh.body_name(bvh.cloth, c.body)];
     triangle_contacts += long(a.triangle_contacts.size());
+    edge_contacts += long(a.edge_contacts.size());
   }
   // It means something only if features of several bodies, the spinning
-  // one among them, met the triangles.
-  std::printf("triangle contacts over 60 steps: %ld (box %d, hull %d, compound %d, spinner %d)\n",
-              triangle_contacts, per_body["box"], per_body["hull"], per_body["compound"], per_body["spinner"]);
+  // one among them, met the triangles, and box edges met the cloth's edges
+  // (the box edges' triangles come from the bodies' grids).
+  std::printf("triangle contacts over 60 steps: %ld (box %d, hull %d, compound %d, spinner %d); edge contacts %ld\n",
+              triangle_contacts, per_body["box"], per_body["hull"], per_body["compound"], per_body["spinner"],
+              edge_contacts);
+  EXPECT_GT(edge_contacts, 0);
   EXPECT_GT(per_body["box"], 0);
   EXPECT_GT(per_body["spinner"], 0);
   EXPECT_GT(per_body["compound"] + per_body["hull"], 0);
