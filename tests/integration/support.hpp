@@ -156,6 +156,23 @@ inline System make_system(const xpbd::SceneDesc& scene) {
   return s;
 }
 
+// A 24 x 24 cloth of 0.4 kg, size_u (along x) by size_v (along z) m,
+// centred on the origin and lying flat at height y (the contact thickness
+// above a ground plane at 0).
+inline System lying_cloth(Real size_u, Real size_v, Real y) {
+  xpbd::SceneDesc scene;
+  xpbd::ClothGridDesc c;
+  c.nx = c.ny = 24;
+  c.size_u = size_u;
+  c.size_v = size_v;
+  c.mass = Real(0.4);
+  c.origin = Vec3(-size_u / 2, y, -size_v / 2);
+  c.u = Vec3::UnitX();
+  c.v = Vec3::UnitZ();
+  xpbd::add_cloth_grid(scene, c);
+  return make_system(scene);
+}
+
 // A 4-particle rope, 0.1 m links, 0.04 kg, pinned at its first particle at
 // (0, 2, 0) and lying along +x: stepped, its free end falls.
 inline System hanging_rope() {

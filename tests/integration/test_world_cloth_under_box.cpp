@@ -28,7 +28,6 @@ using namespace xpbd_bullet::test;
 using xpbd_bullet::SystemSettings;
 using xpbd_bullet::XpbdWorld;
 
-constexpr int kN = 24;
 const Vec3 kHalf(0.15, 0.05, 0.15);  // m, the box's half extents
 
 struct Result {
@@ -46,16 +45,7 @@ Result run(Real mass, Real drop, Real tilt) {
   pose.setRotation(btQuaternion(btVector3(0, 0, 1), tilt));
   btRigidBody* box = bw.add_body(new btBoxShape(bt(kHalf)), mass, pose);
   XpbdWorld xw(bw.world());
-  xpbd::SceneDesc scene;
-  xpbd::ClothGridDesc c;
-  c.nx = c.ny = kN;
-  c.size_u = c.size_v = 1;
-  c.mass = Real(0.4);
-  c.origin = Vec3(-0.5, t, -0.5);
-  c.u = Vec3::UnitX();
-  c.v = Vec3::UnitZ();  // lying flat, at the thickness above the ground
-  xpbd::add_cloth_grid(scene, c);
-  System sys = make_system(scene);
+  System sys = lying_cloth(1, 1, t);  // 24 x 24, at the thickness above the ground
   const auto id = xw.add_system(sys.model, sys.state, SystemSettings{});
   Result r;
   constexpr int kFrames = 180;

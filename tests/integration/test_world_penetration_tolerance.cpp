@@ -54,16 +54,7 @@ Outcome drop(double mass, double tolerance, int max_substeps = 200, bool wedges 
   if (tilt > 0) pose.setRotation(btQuaternion(btVector3(1, 0, 1).normalized(), btScalar(tilt)));
   btRigidBody* box = bw.add_body(new btBoxShape(bt(kHalf)), Real(mass), pose);
   XpbdWorld xw(bw.world());
-  xpbd::SceneDesc scene;
-  xpbd::ClothGridDesc c;
-  c.nx = c.ny = 24;
-  c.size_u = c.size_v = 1;
-  c.mass = Real(0.4);
-  c.origin = Vec3(-0.5, t, -0.5);
-  c.u = Vec3::UnitX();
-  c.v = Vec3::UnitZ();
-  xpbd::add_cloth_grid(scene, c);
-  System sys = make_system(scene);
+  System sys = lying_cloth(1, 1, t);
   SystemSettings set;
   set.tolerance.penetration = tolerance;
   set.tolerance.max_substeps = max_substeps;

@@ -46,17 +46,7 @@ Slide slide(Real mass, Real v0) {
   const Real t = xpbd_bullet::ContactSettings{}.thickness;
   btRigidBody* box = bw.add_body(new btBoxShape(bt(kHalf)), mass, BulletWorld::at(Vec3(-0.2, 2 * t + kHalf.y(), 0)));
   XpbdWorld xw(bw.world());
-  xpbd::SceneDesc scene;
-  xpbd::ClothGridDesc c;
-  c.nx = c.ny = 24;
-  c.size_u = Real(1.5);
-  c.size_v = 1;
-  c.mass = Real(0.4);
-  c.origin = Vec3(-0.75, t, -0.5);
-  c.u = Vec3::UnitX();
-  c.v = Vec3::UnitZ();
-  xpbd::add_cloth_grid(scene, c);
-  System sys = make_system(scene);
+  System sys = lying_cloth(Real(1.5), 1, t);
   const auto id = xw.add_system(sys.model, sys.state);
   Slide r;
   const auto strain = [&] {
