@@ -27,6 +27,16 @@
 // Momentum: every dl_i acts equally and oppositely on the particle and on
 // its body, as in the one-by-one solve.
 //
+// Attachments. The particle's attachments (BodyAttachment: C = x_p - p_b,
+// three rows, compliance a) join the block as equality rows, always active:
+// rhs = -C - a lambda with the attachment's vector multiplier
+// (State::attachment_impulse). Why: an attached particle has no contact with
+// its own body, and a third body that presses on it moves the light
+// particle, not the bar it hangs from: the attachment, solved earlier in the
+// sweep, pulls it back only in the next sweep, and the last contact pushed
+// an attached particle 16 mm into its bar (docs/squeeze.md). With the rows
+// in the block the particle is a spacer between the two bodies.
+//
 // Precision: the system is built and solved in double in every build.
 // With the particle between two bodies, A's second pivot is
 // w_p - w_p^2/(w_p + w_b), about w_b: a difference of numbers w_p/w_b
@@ -52,36 +62,105 @@ namespace {
 
 // The block's scalar (above: double in every build).
 using D = double;
-using MatK = Eigen::Matrix<D, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxJointContacts, kMaxJointContacts>;
-using VecK = Eigen::Matrix<D, Eigen::Dynamic, 1, 0, kMaxJointContacts, 1>;
+// The rows of the attachments a block takes (3 each).
+constexpr int kAttRows = 3 * kMaxJointAttachments;
+constexpr int kMaxRows = kMaxJointContacts + kAttRows;
+using MatK = Eigen::Matrix<D, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxRows, kMaxRows>;
+using VecK = Eigen::Matrix<D, Eigen::Dynamic, 1, 0, kMaxRows, 1>;
 using Vec3D = Eigen::Matrix<D, 3, 1>;
 // The friction's system: two tangent directions per contact.
-using MatT = Eigen::Matrix<D, Eigen::Dynamic, Eigen::Dynamic, 0, 2 * kMaxJointContacts, 2 * kMaxJointContacts>;
-using VecT = Eigen::Matrix<D, Eigen::Dynamic, 1, 0, 2 * kMaxJointContacts, 1>;
+constexpr int kMaxTRows = 2 * kMaxJointContacts + kAttRows;
+using MatT = Eigen::Matrix<D, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxTRows, kMaxTRows>;
+using VecT = Eigen::Matrix<D, Eigen::Dynamic, 1, 0, kMaxTRows, 1>;
 
-struct Row {
-  std::size_t k = 0;  // contact index
-  Frame f;            // at the current poses
-  Vec3 rn = Vec3::Zero();  // (r x n) in the body frame, for the angular terms
-  RigidBody* body = nullptr;
+// One row of a block: a unit direction d (world) along which the particle
+// is pushed by +dl and its body by -dl at lever arm r.
+struct Dir {
+  Vec3D d = Vec3D::Zero();
+  Vec3D rd = Vec3D::Zero();  // (r x d) in the body frame, for the angular terms
+  const RigidBody* body = nullptr;
   bool dynamic = false;
 };
+
+Dir make_dir(const RigidBody& b, bool dynamic, const Vec3& rw, const Vec3D& d) {
+  return {d, (b.q.conjugate() * rw.cross(d.cast<Real>())).cast<D>(), &b, dynamic};
+}
+
+// How a push along row j changes row i's constraint:
+// w_p d_i.d_j + [same dynamic body] (d_i.d_j / m + (r_i x d_i).I^-1 (r_j x d_j)).
+D coupling(D wp, const Dir& a, const Dir& b) {
+  const D dd = a.d.dot(b.d);
+  D k = wp * dd;
+  if (a.dynamic && a.body == b.body)
+    k += D(a.body->inv_mass) * dd + a.rd.dot(a.body->inv_inertia.cast<D>().cwiseProduct(b.rd));
+  return k;
+}
+
+// One of the particle's attachments, at the current poses.
+struct Att {
+  std::size_t k = 0;
+  RigidBody* body = nullptr;
+  bool dynamic = false;
+  Vec3 rw = Vec3::Zero();
+  Vec3D c = Vec3D::Zero();  // C = x_p - p_b
+  D at = 0;                 // compliance / h^2
+};
+
+// The first kMaxJointAttachments attachments of the particle of contact
+// `head` (the others keep their own stage), with their three rows each
+// appended to `dirs` from index `first`.
+int gather_attachments(State& s, std::size_t head, D inv_h2, Att att[], Dir dirs[], int first) {
+  int na = 0;
+  const Index p = s.contacts[head].particle;
+  for (Index a = s.contact_attachment[head]; a >= 0 && na < kMaxJointAttachments;
+       a = s.attachment_next[static_cast<std::size_t>(a)]) {
+    const BodyAttachment& ba = s.attachments[static_cast<std::size_t>(a)];
+    Att& t = att[na];
+    t.k = static_cast<std::size_t>(a);
+    t.body = &body_or_world(s, ba.body);
+    t.dynamic = ba.body >= 0 && t.body->inv_mass > Real(0);
+    t.rw = ba.body < 0 ? Vec3::Zero() : Vec3(t.body->q * ba.r);
+    const Vec3 pb = ba.body < 0 ? ba.r : Vec3(t.body->x + t.rw);
+    t.c = (s.x[p] - pb).cast<D>();
+    t.at = D(ba.compliance) * inv_h2;
+    for (int e = 0; e < 3; ++e) dirs[first + 3 * na + e] = make_dir(*t.body, t.dynamic, t.rw, Vec3D::Unit(e));
+    ++na;
+  }
+  return na;
+}
+
+// Applies the change dl of an attachment's three rows: to the particle's
+// move (summed by the caller), the body, and the multipliers.
+void apply_attachment(State& s, const Att& t, const Vec3D& dl, Vec3D& dxp) {
+  const D len = t.c.norm();
+  if (len > D(0)) s.attachment_lambda[t.k] += Real(dl.dot(t.c) / len);
+  s.attachment_impulse[t.k] += dl.cast<Real>();
+  dxp += dl;
+  apply_position_impulse(*t.body, t.rw, -dl.cast<Real>());
+}
 
 }  // namespace
 
 bool solve_contact_group(const Model& m, State& s, std::size_t head, Real inv_h2) {
-  Row rows[kMaxJointContacts];
-  int n = 0;
+  // Rows 0..nc-1: the contacts; then three per attachment.
+  std::size_t ck[kMaxJointContacts];
+  Frame fr[kMaxJointContacts];
+  RigidBody* cb[kMaxJointContacts];
+  Dir dirs[kMaxRows];
+  int nc = 0;
   for (Index j = Index(head); j >= 0; j = s.contact_next[static_cast<std::size_t>(j)]) {
-    if (n == kMaxJointContacts) return false;
-    Row& r = rows[n++];
-    r.k = static_cast<std::size_t>(j);
-    const BodyContact& c = s.contacts[r.k];
-    r.body = &body_or_world(s, c.body);
-    r.dynamic = c.body >= 0 && r.body->inv_mass > Real(0);
-    r.f = contact_frame(*r.body, c, c.body < 0, s.x[c.particle]);
-    r.rn = r.body->q.conjugate() * r.f.rw.cross(r.f.n);
+    if (nc == kMaxJointContacts) return false;
+    const std::size_t k = static_cast<std::size_t>(j);
+    const BodyContact& c = s.contacts[k];
+    ck[nc] = k;
+    cb[nc] = &body_or_world(s, c.body);
+    fr[nc] = contact_frame(*cb[nc], c, c.body < 0, s.x[c.particle]);
+    dirs[nc] = make_dir(*cb[nc], c.body >= 0 && cb[nc]->inv_mass > Real(0), fr[nc].rw, fr[nc].n.cast<D>());
+    ++nc;
   }
+  Att att[kMaxJointAttachments];
+  const int na = gather_attachments(s, head, D(inv_h2), att, dirs, nc);
+  const int n = nc + 3 * na;
   const Index p = s.contacts[head].particle;
   const D wp = m.inv_mass[p];
 
@@ -90,49 +169,50 @@ bool solve_contact_group(const Model& m, State& s, std::size_t head, Real inv_h2
   bool any = false;
   D scale = 0;
   for (int i = 0; i < n; ++i) {
-    const BodyContact& c = s.contacts[rows[i].k];
-    const Real C = rows[i].f.n.dot(s.x[p] - rows[i].f.p) - c.thickness;
-    lambda(i) = s.contact_lambda[rows[i].k].normal;
-    any = any || C < Real(0) || lambda(i) != D(0);
-    const D at = D(c.compliance) * D(inv_h2);
-    rhs(i) = -D(C) - at * lambda(i);
-    const Vec3D ni = rows[i].f.n.cast<D>();
-    for (int j = 0; j < n; ++j) {
-      const D nn = ni.dot(rows[j].f.n.cast<D>());
-      D a = wp * nn;
-      if (rows[i].dynamic && rows[i].body == rows[j].body)
-        a += D(rows[i].body->inv_mass) * nn +
-             rows[i].rn.cast<D>().dot(rows[i].body->inv_inertia.cast<D>().cwiseProduct(rows[j].rn.cast<D>()));
-      A(i, j) = a;
+    if (i < nc) {
+      const BodyContact& c = s.contacts[ck[i]];
+      const Real C = fr[i].n.dot(s.x[p] - fr[i].p) - c.thickness;
+      lambda(i) = s.contact_lambda[ck[i]].normal;
+      any = any || C < Real(0) || lambda(i) != D(0);
+      const D at = D(c.compliance) * D(inv_h2);
+      rhs(i) = -D(C) - at * lambda(i);
+      A(i, i) = at;
+    } else {
+      const Att& t = att[(i - nc) / 3];
+      const int e = (i - nc) % 3;
+      lambda(i) = D(s.attachment_impulse[t.k](e));
+      rhs(i) = -t.c(e) - t.at * lambda(i);
+      A(i, i) = t.at;
     }
-    A(i, i) += at;
+    for (int j = 0; j < n; ++j) A(i, j) = (i == j ? A(i, i) : D(0)) + coupling(wp, dirs[i], dirs[j]);
     scale = std::max({scale, std::abs(rhs(i)), std::abs(A(i, i) * lambda(i))});
   }
   if (!any) return true;  // nothing touches and nothing pushed: no change, as one by one
   if (!(scale < std::numeric_limits<D>::infinity())) return false;
 
-  // Every active set, largest first; the first that satisfies the conditions
-  // is the solution.
+  // Every active set of the contacts, largest first (the attachments' rows
+  // are always active); the first that satisfies the conditions is the
+  // solution.
   const D eps = std::numeric_limits<D>::epsilon();
   const D tol = D(64) * eps * (scale + D(1e-30));
   VecK dl(n);
-  for (unsigned mask = (1u << n) - 1;; --mask) {
-    int act[kMaxJointContacts], na = 0;
+  for (unsigned mask = (1u << nc) - 1;; --mask) {
+    int act[kMaxRows], nact = 0;
     for (int i = 0; i < n; ++i) {
-      if (mask & (1u << i)) {
-        act[na++] = i;
+      if (i >= nc || (mask & (1u << i))) {
+        act[nact++] = i;
         dl(i) = 0;
       } else {
         dl(i) = -lambda(i);
       }
     }
     bool ok = true;
-    if (na > 0) {
-      MatK As(na, na);
-      VecK bs(na);
-      for (int a = 0; a < na; ++a) {
+    if (nact > 0) {
+      MatK As(nact, nact);
+      VecK bs(nact);
+      for (int a = 0; a < nact; ++a) {
         bs(a) = rhs(act[a]) - A.row(act[a]).dot(dl);
-        for (int b = 0; b < na; ++b) As(a, b) = A(act[a], act[b]);
+        for (int b = 0; b < nact; ++b) As(a, b) = A(act[a], act[b]);
       }
       const Eigen::LDLT<MatK> ldlt(As);
       const auto d = ldlt.vectorD();
@@ -140,32 +220,33 @@ bool solve_contact_group(const Model& m, State& s, std::size_t head, Real inv_h2
       ok = ldlt.info() == Eigen::Success && (d.array() > D(64) * eps * dmax).all();
       if (ok) {
         const VecK x = ldlt.solve(bs);
-        for (int a = 0; a < na; ++a) {
+        for (int a = 0; a < nact; ++a) {
           dl(act[a]) = x(a);
-          ok = ok && std::isfinite(x(a)) && lambda(act[a]) + x(a) >= -tol;
+          ok = ok && std::isfinite(x(a)) && (act[a] >= nc || lambda(act[a]) + x(a) >= -tol);
         }
       }
     }
     if (ok)
-      for (int i = 0; i < n; ++i)
+      for (int i = 0; i < nc; ++i)
         if (!(mask & (1u << i))) ok = ok && A.row(i).dot(dl) - rhs(i) >= -tol;
     if (ok) break;
     if (mask == 0) return false;
   }
 
   // Apply: the particle once (its move summed in double: for a spacer the
-  // pushes nearly cancel), each body by its contact's impulse.
+  // pushes nearly cancel), each body by its row's impulse.
   Vec3D dxp = Vec3D::Zero();
-  for (int i = 0; i < n; ++i) {
-    ContactLambda& l = s.contact_lambda[rows[i].k];
+  for (int i = 0; i < nc; ++i) {
+    ContactLambda& l = s.contact_lambda[ck[i]];
     const D ln = std::max(lambda(i) + dl(i), D(0));
     const D dd = ln - D(l.normal);
     const Real d = Real(dd);
     l.normal = Real(ln);
-    dxp += dd * rows[i].f.n.cast<D>();
-    apply_position_impulse(*rows[i].body, rows[i].f.rw, -d * rows[i].f.n);
-    record_push(s, s.contacts[rows[i].k].body, -d * rows[i].f.n);
+    dxp += dd * dirs[i].d;
+    apply_position_impulse(*cb[i], fr[i].rw, -d * fr[i].n);
+    record_push(s, s.contacts[ck[i]].body, -d * fr[i].n);
   }
+  for (int t = 0; t < na; ++t) apply_attachment(s, att[t], dl.segment<3>(nc + 3 * t), dxp);
   s.x[p] += (wp * dxp).cast<Real>();
   return true;
 }
@@ -201,91 +282,90 @@ bool solve_contact_group(const Model& m, State& s, std::size_t head, Real inv_h2
 //
 // The velocity pass leaves these contacts' dynamic friction alone
 // (ContactLambda::joint): it was applied here, at the position level.
-bool solve_friction_group(const Model& m, State& s, std::size_t head) {
-  struct TRow {
-    std::size_t k = 0;
-    Frame f;
-    Vec3D t[2];   // tangent basis (world)
-    Vec3D rt[2];  // (r x t) in the body frame
-    RigidBody* body = nullptr;
-    bool dynamic = false;
-  };
-  TRow rows[kMaxJointContacts];
-  int n = 0;
+bool solve_friction_group(const Model& m, State& s, std::size_t head, Real inv_h2) {
+  // Rows 0..2nc-1: two per contact that pushes and has friction; then
+  // three per attachment (equality rows, as in the normal block).
+  std::size_t ck[kMaxJointContacts];
+  Frame fr[kMaxJointContacts];
+  RigidBody* cb[kMaxJointContacts];
+  Dir dirs[kMaxTRows];
+  int nc = 0;
   const Index p = s.contacts[head].particle;
   for (Index j = Index(head); j >= 0; j = s.contact_next[static_cast<std::size_t>(j)]) {
     const std::size_t k = static_cast<std::size_t>(j);
     const BodyContact& c = s.contacts[k];
     if (s.contact_lambda[k].normal <= Real(0)) continue;
     if (c.static_friction <= Real(0) && c.dynamic_friction <= Real(0)) continue;
-    if (n == kMaxJointContacts) return false;
-    TRow& r = rows[n++];
-    r.k = k;
-    r.body = &body_or_world(s, c.body);
-    r.dynamic = c.body >= 0 && r.body->inv_mass > Real(0);
-    r.f = contact_frame(*r.body, c, c.body < 0, s.x[p]);
-    const Vec3D nd = r.f.n.cast<D>();
-    r.t[0] = nd.unitOrthogonal();
-    r.t[1] = nd.cross(r.t[0]);
-    for (int a = 0; a < 2; ++a)
-      r.rt[a] = (r.body->q.conjugate() * r.f.rw.cross(r.t[a].cast<Real>())).cast<D>();
+    if (nc == kMaxJointContacts) return false;
+    ck[nc] = k;
+    cb[nc] = &body_or_world(s, c.body);
+    fr[nc] = contact_frame(*cb[nc], c, c.body < 0, s.x[p]);
+    const bool dynamic = c.body >= 0 && cb[nc]->inv_mass > Real(0);
+    const Vec3D nd = fr[nc].n.cast<D>();
+    const Vec3D t0 = nd.unitOrthogonal();
+    dirs[2 * nc] = make_dir(*cb[nc], dynamic, fr[nc].rw, t0);
+    dirs[2 * nc + 1] = make_dir(*cb[nc], dynamic, fr[nc].rw, nd.cross(t0));
+    ++nc;
   }
-  if (n < 2) return false;  // one by one: the same as the particle's lone contact
+  if (nc == 0) return false;
+  Att att[kMaxJointAttachments];
+  const int na = gather_attachments(s, head, D(inv_h2), att, dirs, 2 * nc);
+  if (nc + na < 2) return false;  // one by one: the same as the particle's lone contact
   const D wp = m.inv_mass[p];
 
-  const int n2 = 2 * n;
-  MatT K(n2, n2);
-  VecT g(n2), u(n2);
-  VecK cone_s(n), cone_d(n), acc(n);
-  for (int i = 0; i < n; ++i) {
-    const BodyContact& c = s.contacts[rows[i].k];
-    const ContactLambda& l = s.contact_lambda[rows[i].k];
+  const int n2 = 2 * nc, n = n2 + 3 * na;
+  MatT K(n, n);
+  VecT g(n), u(n);
+  VecK cone_s(nc), cone_d(nc), acc(nc);
+  for (int i = 0; i < nc; ++i) {
+    const BodyContact& c = s.contacts[ck[i]];
+    const ContactLambda& l = s.contact_lambda[ck[i]];
     acc(i) = std::abs(D(l.tangent));
     cone_s(i) = D(c.static_friction) * D(l.normal);
     cone_d(i) = D(c.dynamic_friction) * D(l.normal);
-    const RigidBody& b = *rows[i].body;
-    const Vec3 pb_prev = c.body < 0 ? rows[i].f.p : Vec3(b.x_prev + b.q_prev * (b.q.conjugate() * rows[i].f.rw));
-    const Vec3D rel = ((s.x[p] - s.x_prev[p]) - (rows[i].f.p - pb_prev)).cast<D>();
-    for (int a = 0; a < 2; ++a) {
-      g(2 * i + a) = rows[i].t[a].dot(rel);
-      for (int j = 0; j < n; ++j)
-        for (int bb = 0; bb < 2; ++bb) {
-          const D tt = rows[i].t[a].dot(rows[j].t[bb]);
-          D kk = wp * tt;
-          if (rows[i].dynamic && rows[i].body == rows[j].body)
-            kk += D(b.inv_mass) * tt + rows[i].rt[a].dot(b.inv_inertia.cast<D>().cwiseProduct(rows[j].rt[bb]));
-          K(2 * i + a, 2 * j + bb) = kk;
-        }
+    const RigidBody& b = *cb[i];
+    const Vec3 pb_prev = c.body < 0 ? fr[i].p : Vec3(b.x_prev + b.q_prev * (b.q.conjugate() * fr[i].rw));
+    const Vec3D rel = ((s.x[p] - s.x_prev[p]) - (fr[i].p - pb_prev)).cast<D>();
+    for (int a = 0; a < 2; ++a) g(2 * i + a) = dirs[2 * i + a].d.dot(rel);
+  }
+  for (int t = 0; t < na; ++t)
+    for (int e = 0; e < 3; ++e) {
+      const int i = n2 + 3 * t + e;
+      g(i) = att[t].c(e) + att[t].at * D(s.attachment_impulse[att[t].k](e));
     }
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) K(i, j) = coupling(wp, dirs[i], dirs[j]);
+    if (i >= n2) K(i, i) += att[(i - n2) / 3].at;
   }
   if (!g.allFinite() || !K.allFinite()) return false;
 
   // Solve with the sliding contacts held; at most one more slides per round.
   bool held[kMaxJointContacts] = {};
   u.setZero();
-  for (int round = 0; round <= n; ++round) {
-    int fr[2 * kMaxJointContacts], nf = 0;
-    for (int i = 0; i < n; ++i)
-      if (!held[i]) fr[nf++] = 2 * i, fr[nf++] = 2 * i + 1;
-    if (nf == 0) break;
+  for (int round = 0; round <= nc; ++round) {
+    int fr_[kMaxTRows], nf = 0;
+    for (int i = 0; i < nc; ++i)
+      if (!held[i]) fr_[nf++] = 2 * i, fr_[nf++] = 2 * i + 1;
+    for (int i = n2; i < n; ++i) fr_[nf++] = i;
+    if (nf == 0) break;  // every contact slides, and no attachment
     MatT Kf(nf, nf);
     VecT bf(nf);
     for (int a = 0; a < nf; ++a) {
       D held_part = 0;
-      for (int i = 0; i < n; ++i)
-        if (held[i]) held_part += K(fr[a], 2 * i) * u(2 * i) + K(fr[a], 2 * i + 1) * u(2 * i + 1);
-      bf(a) = -g(fr[a]) - held_part;
-      for (int b = 0; b < nf; ++b) Kf(a, b) = K(fr[a], fr[b]);
+      for (int i = 0; i < nc; ++i)
+        if (held[i]) held_part += K(fr_[a], 2 * i) * u(2 * i) + K(fr_[a], 2 * i + 1) * u(2 * i + 1);
+      bf(a) = -g(fr_[a]) - held_part;
+      for (int b = 0; b < nf; ++b) Kf(a, b) = K(fr_[a], fr_[b]);
     }
     const Eigen::LDLT<MatT> ldlt(Kf);
     if (ldlt.info() != Eigen::Success) return false;
     const VecT x = ldlt.solve(bf);
     if (!x.allFinite()) return false;
-    for (int a = 0; a < nf; ++a) u(fr[a]) = x(a);
+    for (int a = 0; a < nf; ++a) u(fr_[a]) = x(a);
     // The free contact farthest outside its static cone slides.
     int worst = -1;
     D worst_ratio = 1;
-    for (int i = 0; i < n; ++i) {
+    for (int i = 0; i < nc; ++i) {
       if (held[i]) continue;
       const D total = acc(i) + std::hypot(u(2 * i), u(2 * i + 1));
       if (total <= cone_s(i)) continue;
@@ -302,16 +382,17 @@ bool solve_friction_group(const Model& m, State& s, std::size_t head) {
 
   // Apply, as the normal parts: the particle once, each body by its impulse.
   Vec3D dxp = Vec3D::Zero();
-  for (int i = 0; i < n; ++i) {
-    ContactLambda& l = s.contact_lambda[rows[i].k];
-    const Vec3D imp = u(2 * i) * rows[i].t[0] + u(2 * i + 1) * rows[i].t[1];
+  for (int i = 0; i < nc; ++i) {
+    ContactLambda& l = s.contact_lambda[ck[i]];
+    const Vec3D imp = u(2 * i) * dirs[2 * i].d + u(2 * i + 1) * dirs[2 * i + 1].d;
     l.tangent = Real(acc(i) + imp.norm());
     l.joint = true;
     dxp += imp;
     const Vec3 pi = (-imp).cast<Real>();
-    apply_position_impulse(*rows[i].body, rows[i].f.rw, pi);
-    record_push(s, s.contacts[rows[i].k].body, pi);
+    apply_position_impulse(*cb[i], fr[i].rw, pi);
+    record_push(s, s.contacts[ck[i]].body, pi);
   }
+  for (int t = 0; t < na; ++t) apply_attachment(s, att[t], u.segment<3>(n2 + 3 * t), dxp);
   s.x[p] += (wp * dxp).cast<Real>();
   return true;
 }

@@ -55,6 +55,19 @@ void build_contact_chains(const Model& m, State& s) {
     last = Index(k);
   }
   for (const BodyContact& c : s.contacts) s.contact_last[static_cast<std::size_t>(c.particle)] = -1;
+  // The attachments of each particle, first to last, and each contact's
+  // first attachment.
+  const std::size_t na = s.attachments.size();
+  s.attachment_next.resize(na);
+  for (std::size_t a = na; a-- > 0;) {
+    Index& first = s.contact_last[static_cast<std::size_t>(s.attachments[a].particle)];
+    s.attachment_next[a] = first;
+    first = Index(a);
+  }
+  s.contact_attachment.resize(nc);
+  for (std::size_t k = 0; k < nc; ++k)
+    s.contact_attachment[k] = s.contact_last[static_cast<std::size_t>(s.contacts[k].particle)];
+  for (const BodyAttachment& a : s.attachments) s.contact_last[static_cast<std::size_t>(a.particle)] = -1;
 }
 
 }  // namespace
@@ -253,17 +266,18 @@ void solve_contacts(const Model& m, State& s, Real h) {
   for (std::size_t k = 0; k < s.contacts.size(); ++k) {
     const auto head = static_cast<std::size_t>(s.contact_head[k]);
     if (head != k) continue;  // solved with the first contact of its particle
-    if (s.contact_next[k] < 0) {
+    if (s.contact_next[k] < 0 && s.contact_attachment[k] < 0) {
       solve_contact_normal(m, s, k, inv_h2);
       solve_contact_friction(m, s, k);
       continue;
     }
-    // Two or more contacts on one particle: their normal parts jointly, then
-    // their friction jointly (contact_block.cpp).
+    // Two or more contacts on one particle, or contacts of an attached
+    // particle: their normal parts jointly, then their friction jointly, with
+    // the particle's attachments (contact_block.cpp).
     if (!solve_contact_group(m, s, k, inv_h2))
       for (Index j = Index(k); j >= 0; j = s.contact_next[static_cast<std::size_t>(j)])
         solve_contact_normal(m, s, static_cast<std::size_t>(j), inv_h2);
-    if (!solve_friction_group(m, s, k))
+    if (!solve_friction_group(m, s, k, inv_h2))
       for (Index j = Index(k); j >= 0; j = s.contact_next[static_cast<std::size_t>(j)])
         solve_contact_friction(m, s, static_cast<std::size_t>(j));
   }

@@ -171,8 +171,9 @@ struct ContactLambda {
   Real normal = 0;   // kg*m, >= 0; force = normal / h^2
   Real tangent = 0;  // kg*m, static friction multiplier
   Real vn_start = 0; // m/s, relative normal velocity at the substep start (restitution)
-  // Its friction was solved jointly with the particle's other contacts, at
-  // the position level, dynamic part included (the velocity pass leaves it).
+  // Its friction was solved jointly with the particle's other contacts and
+  // attachments, at the position level, dynamic part included (the velocity
+  // pass leaves it).
   bool joint = false;
 };
 

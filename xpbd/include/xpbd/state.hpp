@@ -60,6 +60,11 @@ struct State {
   // contact_next[k] the next one or -1. A particle with two or more contacts
   // has them solved jointly (rigid_solve.hpp).
   std::vector<Index> contact_head, contact_next;
+  // The attachments of the same particle (internal, sized by step()):
+  // contact_attachment[k] is the first attachment of k's particle or -1,
+  // attachment_next[a] the next attachment of a's particle or -1. The joint
+  // solve takes them with the contacts (contact_block.cpp).
+  std::vector<Index> contact_attachment, attachment_next;
   std::vector<Index> contact_last;  // per particle, -1 between steps (scratch)
   std::vector<BodyTriangleContact> triangle_contacts;  // rigid features vs soft triangles
   std::vector<ContactLambda> triangle_contact_lambda;  // parallel (sized by step())
