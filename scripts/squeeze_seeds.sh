@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# The bar-squeeze application (tests/integration/test_world_squeeze.cpp)
+# over wrinkle seeds 1-32 with 49 bodies at the defaults: one line per seed
+# (deepest particle centre inside a body, frames deeper than the contact
+# thickness, largest edge strain, sweeps per step). The figures in
+# docs/squeeze.md come from this. About a minute in double.
+#
+#   scripts/squeeze_seeds.sh                    builds and uses build/double
+#   BUILD_DIR=build/float scripts/squeeze_seeds.sh
+set -euo pipefail
+cd "$(dirname "$0")/.."
+if [ -z "${BUILD_DIR:-}" ]; then
+  scripts/setup.sh double >/dev/null
+fi
+build="${BUILD_DIR:-build/double}"
+"$build/tests/xpbd_tests_integration" --gtest_also_run_disabled_tests \
+  --gtest_filter='DISABLED_SqueezeCampaign.*' | grep '^seed'
