@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "xpbd/rigid_solve.hpp"
 #include "xpbd/xpbd.hpp"
@@ -79,6 +80,35 @@ TEST(AttachedContacts, HeavyBodyRestsOnAParticleAttachedToAFixedPoint) {
   EXPECT_NEAR(double(sc.s.bodies[0].x.y()), double(kT + kHalf), 1e-4);
   EXPECT_NEAR(double(sc.s.x[0].norm()), 0.0, 1e-4);
   EXPECT_LT(double(sc.s.bodies[0].v.norm()), 1e-3);
+}
+
+// The same on a compliant attachment (alpha = 1e-6 m/N): the particle
+// gives under the body's weight by alpha (M + m) g = 0.98 mm, the body rests
+// one thickness above it, and the attachment reports the whole weight on
+// its fixed point (forces.hpp). The joint block takes the attachment's
+// compliance term (alpha/h^2 times its multiplier); without it the particle
+// would not give at all.
+TEST(AttachedContacts, HeavyBodyOnACompliantAttachmentDeflectsItByItsWeight) {
+  const Real M = 100, alpha = Real(1e-6);
+  Scene sc = pressed_particle(M, Vec3::Zero(), 0);
+  xpbd::BodyAttachment a = attach(-1, Vec3::Zero());
+  a.compliance = alpha;
+  sc.s.attachments = {a};
+  xpbd::StepConfig cfg;
+  cfg.gravity = Vec3(0, -kG, 0);
+  sc.s.bodies[0].accel = cfg.gravity;
+  for (int k = 0; k < 120; ++k) xpbd::step(sc.m, sc.s, cfg);
+  const double weight = double((M + kParticle) * kG);  // N
+  const double sag = double(alpha) * weight;           // 0.98 mm
+  // Settled (the body's oscillation on the spring, period 2 pi sqrt(alpha
+  // M) = 63 ms, is damped by the substeps' implicit integration) to 1 %
+  // of the deflection.
+  EXPECT_NEAR(double(sc.s.x[0].y()), -sag, 0.01 * sag);
+  EXPECT_NEAR(double(sc.s.bodies[0].x.y()), double(kT + kHalf) - sag, 0.01 * sag);
+  const std::vector<xpbd::AttachmentForce> f = xpbd::attachment_forces(sc.m, sc.s);
+  ASSERT_EQ(f.size(), 1u);
+  EXPECT_NEAR(double(f[0].on_body.y()), -weight, 0.01 * weight);
+  EXPECT_NEAR(double(f[0].on_body.x()), 0.0, 1e-6 * weight);
 }
 
 // No gravity: a 100 kg body moving down at 1 m/s hits a particle attached
