@@ -331,6 +331,8 @@ AttachmentId XpbdWorld::attach(SystemId id, Index particle, btRigidBody* body, c
   if (!in_world(world_, body)) throw xpbd::ConfigError("attach: body is not in the world");
   if (!(compliance >= Real(0)) || !std::isfinite(compliance))
     throw xpbd::ConfigError("attach: compliance must be finite and >= 0, got " + std::to_string(compliance));
+  if (!to_vec(local).allFinite())
+    throw xpbd::ConfigError("attach: local point " + xpbd::format_vec(to_vec(local)) + " must be finite");
   attachments_.push_back(
       Attachment{next_attachment_, id.value, particle, body, local, compliance, BodyIdentity::of(body)});
   return AttachmentId(next_attachment_++);

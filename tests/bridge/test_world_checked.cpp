@@ -10,6 +10,7 @@
 #include <memory>
 #include <new>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "../integration/support.hpp"
@@ -45,6 +46,39 @@ TEST(WorldChecked, StepLengthNotFiniteAndPositiveStepsNothing) {
   EXPECT_EQ(xw.last_stats().bad_dt, 0);
   EXPECT_EQ(xw.error(id), "");
   EXPECT_LT(xw.state(id).x[3].y(), before[3].y());  // it fell
+}
+
+// attach() names a bad argument and adds nothing: a particle out of range,
+// a compliance that is negative or not finite, a local point that is not
+// finite (before, a local point was accepted as it came).
+TEST(WorldChecked, AttachNamesItsBadArgument) {
+  BulletWorld bw;
+  XpbdWorld xw(bw.world());
+  System s = hanging_rope();
+  const auto id = xw.add_system(s.model, s.state);
+  btRigidBody* box = bw.add_body(new btBoxShape(btVector3(0.05f, 0.05f, 0.05f)), 1,
+                                 BulletWorld::at(Vec3(Real(0.35), 2, 0)));
+  const btScalar nan = std::numeric_limits<btScalar>::quiet_NaN();
+  const struct {
+    Index particle;
+    btVector3 local;
+    Real compliance;
+    const char* named;
+  } bad[] = {{4, btVector3(0, 0, 0), 0, "particle index 4"},
+             {3, btVector3(0, 0, 0), -1, "compliance"},
+             {3, btVector3(0, 0, 0), std::numeric_limits<Real>::infinity(), "compliance"},
+             {3, btVector3(0, nan, 0), 0, "local point (0, nan, 0)"}};
+  for (const auto& b : bad) {
+    try {
+      xw.attach(id, b.particle, box, b.local, b.compliance);
+      ADD_FAILURE() << b.named << " accepted";
+    } catch (const xpbd::ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(b.named), std::string::npos) << e.what();
+    }
+  }
+  bw.step();
+  EXPECT_TRUE(xw.state(id).attachments.empty());
+  for (const Vec3& x : xw.state(id).x) EXPECT_TRUE(x.allFinite());
 }
 
 // A body removed from the world and deleted ends its attachments at the

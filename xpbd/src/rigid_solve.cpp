@@ -7,6 +7,7 @@
 #include "xpbd/constraints_contact.hpp"
 #include "xpbd/error.hpp"
 #include "contact_block.hpp"
+#include "rigid_checks.hpp"
 #include "rigid_internal.hpp"
 
 namespace xpbd::rigid {
@@ -14,30 +15,6 @@ namespace xpbd::rigid {
 using namespace detail;
 
 namespace {
-
-void check_bodies(const State& s, std::size_t from) {
-  for (std::size_t k = from; k < s.bodies.size(); ++k) {
-    const RigidBody& b = s.bodies[k];
-    if (!(b.inv_mass >= Real(0)) || !std::isfinite(b.inv_mass) || !b.inv_inertia.allFinite() ||
-        (b.inv_inertia.array() < Real(0)).any() || !b.x.allFinite() || !b.v.allFinite() ||
-        !b.w.allFinite() || !b.q.coeffs().allFinite() || !b.accel.allFinite() ||
-        !b.ang_accel.allFinite())
-      throw ConfigError("state.bodies[" + std::to_string(k) +
-                        "]: pose, velocities, accelerations and inverse mass/inertia must be "
-                        "finite and inverse mass/inertia >= 0");
-  }
-}
-
-void check_index(const Model& m, const State& s, const char* what, std::size_t k, Index p, Index b) {
-  const Index np = m.num_particles();
-  const auto nb = static_cast<Index>(s.bodies.size());
-  if (p < 0 || p >= np)
-    throw ConfigError(std::string("state.") + what + "[" + std::to_string(k) + "].particle: index " +
-                      std::to_string(p) + " out of range [0, " + std::to_string(np) + ")");
-  if (b >= nb)
-    throw ConfigError(std::string("state.") + what + "[" + std::to_string(k) + "].body: index " +
-                      std::to_string(b) + " out of range [-1, " + std::to_string(nb) + ")");
-}
 
 // Chains of the contacts of each particle (contact_last is all -1 between
 // calls: only the entries set here are reset).
@@ -75,10 +52,8 @@ void build_contact_chains(const Model& m, State& s) {
 void begin_step(const Model& m, State& s) {
   const auto nb = static_cast<Index>(s.bodies.size());
   check_bodies(s, 0);
-  for (std::size_t k = 0; k < s.contacts.size(); ++k)
-    check_index(m, s, "contacts", k, s.contacts[k].particle, s.contacts[k].body);
-  for (std::size_t k = 0; k < s.attachments.size(); ++k)
-    check_index(m, s, "attachments", k, s.attachments[k].particle, s.attachments[k].body);
+  for (std::size_t k = 0; k < s.contacts.size(); ++k) check_contact(m, s, k);
+  for (std::size_t k = 0; k < s.attachments.size(); ++k) check_attachment(m, s, k);
   for (std::size_t k = 0; k < s.triangle_contacts.size(); ++k) {
     const BodyTriangleContact& c = s.triangle_contacts[k];
     for (Index p : c.tri) check_index(m, s, "triangle_contacts", k, p, c.body);
@@ -134,8 +109,7 @@ void begin_step(const Model& m, State& s) {
 
 void contacts_added(const Model& m, State& s, std::size_t first_contact, std::size_t first_body) {
   check_bodies(s, first_body);
-  for (std::size_t k = first_contact; k < s.contacts.size(); ++k)
-    check_index(m, s, "contacts", k, s.contacts[k].particle, s.contacts[k].body);
+  for (std::size_t k = first_contact; k < s.contacts.size(); ++k) check_contact(m, s, k);
   build_contact_chains(m, s);
   s.body_contact_impulse.resize(s.bodies.size(), Vec3::Zero());
   s.body_contact_push.resize(s.bodies.size(), Vec3::Zero());

@@ -55,9 +55,9 @@ struct BodyContact {
   Vec3 r = Vec3::Zero();           // m, contact point on the surface, body frame
   Vec3 n = Vec3::UnitY();          // unit surface normal (out of the body), body frame
   Real thickness = 0;              // m, particle radius plus surface thickness
-  Real static_friction = 0;        // mu_s, dimensionless, combined from both materials
+  Real static_friction = 0;        // mu_s, dimensionless, combined from both materials (<= 0: none)
   Real dynamic_friction = 0;       // mu_d, dimensionless
-  Real restitution = 0;            // e in [0, 1]
+  Real restitution = 0;            // e, normally in [0, 1] (<= 0: none)
   Real compliance = 0;             // m/N
 };
 
