@@ -72,5 +72,40 @@ TEST(RigidChecks, BadContactOrAttachmentFieldIsAConfigErrorNamingIt) {
   }
 }
 
+// The same for a rigid feature against a soft triangle.
+TEST(RigidChecks, BadTriangleContactFieldIsAConfigErrorNamingIt) {
+  const Real nan = std::numeric_limits<Real>::quiet_NaN();
+  const struct {
+    const char* named;
+    std::function<void(xpbd::BodyTriangleContact&)> spoil;
+  } bad[] = {
+      {"state.triangle_contacts[0].r: (0.25, 0.0078125, nan)", [&](xpbd::BodyTriangleContact& c) { c.r.z() = nan; }},
+      {"state.triangle_contacts[0].side: 0", [](xpbd::BodyTriangleContact& c) { c.side = 0; }},
+      {"state.triangle_contacts[0].thickness: -0.25", [](xpbd::BodyTriangleContact& c) { c.thickness = Real(-0.25); }},
+      {"state.triangle_contacts[0].static_friction", [&](xpbd::BodyTriangleContact& c) { c.dynamic_friction = nan; }},
+      {"state.triangle_contacts[0]: reach = -1", [](xpbd::BodyTriangleContact& c) { c.reach = -1; }},
+  };
+  for (const auto& b : bad) {
+    xpbd::SceneDesc scene;
+    for (const Vec3& x : {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 0, 1)}) scene.add_particle(x, Real(0.1));
+    const xpbd::Model m = xpbd::compile(scene);
+    xpbd::State s = xpbd::make_state(m);
+    xpbd::BodyTriangleContact c;  // a fixed point 7.8 mm above the triangle
+    c.r = Vec3(Real(0.25), Real(0.0078125), Real(0.25));
+    c.tri = {0, 1, 2};
+    c.thickness = Real(0.005);
+    b.spoil(c);
+    s.triangle_contacts = {c};
+    const std::vector<Vec3> before = s.x;
+    try {
+      xpbd::step(m, s, xpbd::StepConfig{});
+      ADD_FAILURE() << b.named << ": accepted";
+    } catch (const xpbd::ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(b.named), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(s.x, before) << b.named;
+  }
+}
+
 }  // namespace XPBD_TEST_FILE_ID
 }  // namespace

@@ -76,4 +76,49 @@ void check_attachment(const Model& m, const State& s, std::size_t k) {
                       " must be finite and >= 0");
 }
 
+void check_triangle_contact(const Model& m, const State& s, std::size_t k) {
+  const BodyTriangleContact& c = s.triangle_contacts[k];
+  for (Index p : c.tri) check_index(m, s, "triangle_contacts", k, p, c.body);
+  if (!c.r.allFinite())
+    throw ConfigError(at("triangle_contacts", k, "r") + ": " + format_vec(c.r) + " must be finite");
+  if (c.side != Real(1) && c.side != Real(-1))
+    throw ConfigError(at("triangle_contacts", k, "side") + ": " + format_value(double(c.side)) + " must be +1 or -1");
+  if (!nonneg(c.thickness))
+    throw ConfigError(at("triangle_contacts", k, "thickness") + ": " + format_value(double(c.thickness)) +
+                      " must be finite and >= 0");
+  if (!std::isfinite(c.static_friction) || !std::isfinite(c.dynamic_friction))
+    throw ConfigError(at("triangle_contacts", k, "static_friction") + " and dynamic_friction: " +
+                      format_value(double(c.static_friction)) + ", " + format_value(double(c.dynamic_friction)) +
+                      " must be finite");
+  if (!(c.reach >= Real(0)) || !nonneg(c.closing_speed))
+    throw ConfigError("state.triangle_contacts[" + std::to_string(k) + "]: reach = " + format_value(double(c.reach)) +
+                      " must be >= 0 (or infinity) and closing_speed = " + format_value(double(c.closing_speed)) +
+                      " finite and >= 0");
+}
+
+void check_edge_contact(const Model& m, const State& s, std::size_t k) {
+  const BodyEdgeContact& c = s.edge_contacts[k];
+  for (Index p : c.p) check_index(m, s, "edge_contacts", k, p, c.body);
+  if (!c.a.allFinite() || !c.b.allFinite() || !(c.reach >= Real(0)) || !nonneg(c.closing_speed) ||
+      !nonneg(c.thickness) || !c.out.allFinite() || !(std::abs(c.out.squaredNorm() - Real(1)) <= Real(1e-3)))
+    throw ConfigError("state.edge_contacts[" + std::to_string(k) +
+                      "]: a, b must be finite, out a unit vector, thickness finite and >= 0, reach >= 0 (or "
+                      "infinity) and closing_speed finite and >= 0");
+}
+
+void check_world_contact(const State& s, std::size_t k) {
+  const BodyWorldContact& c = s.world_contacts[k];
+  const auto nb = static_cast<Index>(s.bodies.size());
+  if (c.body < 0 || c.body >= nb)
+    throw ConfigError("state.world_contacts[" + std::to_string(k) + "].body: index " + std::to_string(c.body) +
+                      " out of range [0, " + std::to_string(nb) + ")");
+  if (c.other < -1 || c.other >= nb || c.other == c.body)
+    throw ConfigError("state.world_contacts[" + std::to_string(k) + "].other: index " + std::to_string(c.other) +
+                      " out of range [-1, " + std::to_string(nb) + ") or equal to body");
+  if (!c.r.allFinite() || !c.p.allFinite() || !c.n.allFinite() || !nonneg(c.friction) ||
+      std::abs(c.n.norm() - Real(1)) > Real(1e-3))
+    throw ConfigError("state.world_contacts[" + std::to_string(k) +
+                      "]: r, p, n and friction must be finite, n of unit length, friction >= 0");
+}
+
 }  // namespace xpbd::rigid::detail

@@ -26,4 +26,18 @@ void check_contact(const Model& m, const State& s, std::size_t k);
 // Attachment k: indices as above; r finite, compliance finite and >= 0.
 void check_attachment(const Model& m, const State& s, std::size_t k);
 
+// Feature-triangle contact k: indices; r finite, side +1 or -1, thickness
+// finite and >= 0, friction finite, reach >= 0 (or infinity), closing_speed
+// finite and >= 0.
+void check_triangle_contact(const Model& m, const State& s, std::size_t k);
+
+// Edge-edge contact k: indices; a, b finite, out a unit vector, thickness
+// and closing_speed finite and >= 0, reach >= 0 (or infinity).
+void check_edge_contact(const Model& m, const State& s, std::size_t k);
+
+// Body-world contact k: body in range, other in range (-1: the static
+// world) and not the body; r, p, n finite, n of unit length, friction
+// finite and >= 0.
+void check_world_contact(const State& s, std::size_t k);
+
 }  // namespace xpbd::rigid::detail

@@ -50,47 +50,17 @@ void build_contact_chains(const Model& m, State& s) {
 }  // namespace
 
 void begin_step(const Model& m, State& s) {
-  const auto nb = static_cast<Index>(s.bodies.size());
   check_bodies(s, 0);
   for (std::size_t k = 0; k < s.contacts.size(); ++k) check_contact(m, s, k);
   for (std::size_t k = 0; k < s.attachments.size(); ++k) check_attachment(m, s, k);
-  for (std::size_t k = 0; k < s.triangle_contacts.size(); ++k) {
-    const BodyTriangleContact& c = s.triangle_contacts[k];
-    for (Index p : c.tri) check_index(m, s, "triangle_contacts", k, p, c.body);
-    if (!(c.reach >= Real(0)) || !(c.closing_speed >= Real(0)) || !std::isfinite(c.closing_speed))
-      throw ConfigError("state.triangle_contacts[" + std::to_string(k) + "]: reach = " + std::to_string(c.reach) +
-                        " must be >= 0 (or infinity) and closing_speed = " + std::to_string(c.closing_speed) +
-                        " finite and >= 0");
-  }
-  for (std::size_t k = 0; k < s.edge_contacts.size(); ++k) {
-    const BodyEdgeContact& c = s.edge_contacts[k];
-    for (Index p : c.p) check_index(m, s, "edge_contacts", k, p, c.body);
-    if (!c.a.allFinite() || !c.b.allFinite() || !(c.reach >= Real(0)) || !(c.closing_speed >= Real(0)) ||
-        !std::isfinite(c.closing_speed) || !std::isfinite(c.thickness) || c.thickness < Real(0) ||
-        !c.out.allFinite() || !(std::abs(c.out.squaredNorm() - Real(1)) <= Real(1e-3)))
-      throw ConfigError("state.edge_contacts[" + std::to_string(k) +
-                        "]: a, b must be finite, out a unit vector, thickness finite and >= 0, reach >= 0 (or "
-                        "infinity) and closing_speed finite and >= 0");
-  }
+  for (std::size_t k = 0; k < s.triangle_contacts.size(); ++k) check_triangle_contact(m, s, k);
+  for (std::size_t k = 0; k < s.edge_contacts.size(); ++k) check_edge_contact(m, s, k);
   build_contact_chains(m, s);
   s.triangle_contact_lambda.resize(s.triangle_contacts.size());
   s.edge_contact_lambda.resize(s.edge_contacts.size());
   s.attachment_lambda.resize(s.attachments.size());
   s.attachment_impulse.resize(s.attachments.size(), Vec3::Zero());
-  for (std::size_t k = 0; k < s.world_contacts.size(); ++k) {
-    const BodyWorldContact& c = s.world_contacts[k];
-    if (c.body < 0 || c.body >= nb)
-      throw ConfigError("state.world_contacts[" + std::to_string(k) + "].body: index " +
-                        std::to_string(c.body) + " out of range [0, " + std::to_string(nb) + ")");
-    if (c.other < -1 || c.other >= nb || c.other == c.body)
-      throw ConfigError("state.world_contacts[" + std::to_string(k) + "].other: index " +
-                        std::to_string(c.other) + " out of range [-1, " + std::to_string(nb) +
-                        ") or equal to body");
-    if (!c.r.allFinite() || !c.p.allFinite() || !c.n.allFinite() || !std::isfinite(c.friction) ||
-        c.friction < Real(0) || std::abs(c.n.norm() - Real(1)) > Real(1e-3))
-      throw ConfigError("state.world_contacts[" + std::to_string(k) +
-                        "]: r, p, n and friction must be finite, n of unit length, friction >= 0");
-  }
+  for (std::size_t k = 0; k < s.world_contacts.size(); ++k) check_world_contact(s, k);
   s.world_contact_lambda.resize(s.world_contacts.size());
   s.body_contact_impulse.assign(s.bodies.size(), Vec3::Zero());
   s.body_contact_push.assign(s.bodies.size(), Vec3::Zero());
