@@ -2,7 +2,9 @@
 # The bar-squeeze application (tests/integration/test_world_squeeze.cpp)
 # over wrinkle seeds 1-32 with 49 bodies at the defaults: one line per seed
 # (deepest particle centre inside a body, frames deeper than the contact
-# thickness, largest edge strain, sweeps per step). The figures in
+# thickness, largest edge strain, sweeps per step, frames with an edge
+# stretched over 20 %, such edges over the frames and how many of them pass
+# through a body). The figures in
 # docs/squeeze.md come from this. About a minute in double.
 #
 #   scripts/squeeze_seeds.sh                    builds and uses build/double
