@@ -321,10 +321,16 @@ INSTANTIATE_TEST_SUITE_P(Wrinkle, SqueezeSeeds, ::testing::Values(3u, 27u));
 TEST(DISABLED_SqueezeCampaign, WrinkleSeeds1To32) {
   for (unsigned seed = 1; seed <= 32; ++seed) {
     const Result r = run(49, true, 0, true, 0, seed);
+    // The bar's mean speed over the last 100 frames (from its centre's
+    // path): whether the pile has come to rest.
+    double speed = 0;
+    for (std::size_t f = r.bar.size() - 100; f < r.bar.size(); ++f)
+      speed += double((r.bar[f] - r.bar[f - 1]).norm()) / (double(kDt) * 100);
     std::printf("seed %u: deepest %.4g mm, %d frames deep, strain %.3g, %.1f sweeps/step, finite %d exploded %d, "
-                "%d frames with an edge over 20 %%, %ld such edges, %ld of them through a body\n",
+                "%d frames with an edge over 20 %%, %ld such edges, %ld of them through a body, bar speed over "
+                "the last 100 frames %.4f m/s\n",
                 seed, 1e3 * double(r.deepest), r.frames_deep, double(r.strain), r.sweeps_per_step, int(r.finite),
-                int(r.exploded), r.frames_over, r.edges_over, r.edges_through);
+                int(r.exploded), r.frames_over, r.edges_over, r.edges_through, speed);
   }
 }
 
