@@ -48,6 +48,11 @@ TEST(WorldChecked, StepLengthNotFiniteAndPositiveStepsNothing) {
   EXPECT_LT(xw.state(id).x[3].y(), before[3].y());  // it fell
 }
 
+// A 1 kg box (half extent 5 cm) beside the end of hanging_rope().
+btRigidBody* box_beside_rope_end(BulletWorld& bw) {
+  return bw.add_body(new btBoxShape(btVector3(0.05f, 0.05f, 0.05f)), 1, BulletWorld::at(Vec3(Real(0.35), 2, 0)));
+}
+
 // attach() names a bad argument and adds nothing: a particle out of range,
 // a compliance that is negative or not finite, a local point that is not
 // finite (before, a local point was accepted as it came).
@@ -56,8 +61,7 @@ TEST(WorldChecked, AttachNamesItsBadArgument) {
   XpbdWorld xw(bw.world());
   System s = hanging_rope();
   const auto id = xw.add_system(s.model, s.state);
-  btRigidBody* box = bw.add_body(new btBoxShape(btVector3(0.05f, 0.05f, 0.05f)), 1,
-                                 BulletWorld::at(Vec3(Real(0.35), 2, 0)));
+  btRigidBody* box = box_beside_rope_end(bw);
   const btScalar nan = std::numeric_limits<btScalar>::quiet_NaN();
   const struct {
     Index particle;
@@ -89,8 +93,7 @@ TEST(WorldChecked, AttachmentEndsWhenItsBodyIsDeleted) {
   XpbdWorld xw(bw.world());
   System s = hanging_rope();
   const auto id = xw.add_system(s.model, s.state);
-  btRigidBody* box = bw.add_body(new btBoxShape(btVector3(0.05f, 0.05f, 0.05f)), 1,
-                                 BulletWorld::at(Vec3(Real(0.35), 2, 0)));
+  btRigidBody* box = box_beside_rope_end(bw);
   const auto att = xw.attach(id, 3, box, btVector3(0, 0, 0));
   bw.step();
   ASSERT_TRUE(xw.has_attachment(att));
@@ -150,8 +153,7 @@ TEST(WorldChecked, BodyAddedAgainNeedsANewAttachment) {
   XpbdWorld xw(bw.world());
   System s = hanging_rope();
   const auto id = xw.add_system(s.model, s.state);
-  btRigidBody* box = bw.add_body(new btBoxShape(btVector3(0.05f, 0.05f, 0.05f)), 1,
-                                 BulletWorld::at(Vec3(Real(0.35), 2, 0)));
+  btRigidBody* box = box_beside_rope_end(bw);
   const auto att = xw.attach(id, 3, box, btVector3(0, 0, 0));
   bw.step();
   bw.world().removeRigidBody(box);

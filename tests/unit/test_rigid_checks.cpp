@@ -21,6 +21,19 @@ namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMak
 using xpbd::Real;
 using xpbd::Vec3;
 
+// step() throws a ConfigError whose message contains `named`, and leaves
+// the particles where they were.
+void expect_refused(const xpbd::Model& m, xpbd::State& s, const char* named) {
+  const std::vector<Vec3> before = s.x;
+  try {
+    xpbd::step(m, s, xpbd::StepConfig{});
+    ADD_FAILURE() << named << ": accepted";
+  } catch (const xpbd::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find(named), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(s.x, before) << named;
+}
+
 struct Bad {
   const char* named;  // what the message must contain
   std::function<void(xpbd::BodyContact&, xpbd::BodyAttachment&)> spoil;
@@ -61,14 +74,7 @@ TEST(RigidChecks, BadContactOrAttachmentFieldIsAConfigErrorNamingIt) {
     b.spoil(c, a);
     s.contacts = {good, c};
     s.attachments = {a};
-    const std::vector<Vec3> before = s.x;
-    try {
-      xpbd::step(m, s, xpbd::StepConfig{});
-      ADD_FAILURE() << b.named << ": accepted";
-    } catch (const xpbd::ConfigError& e) {
-      EXPECT_NE(std::string(e.what()).find(b.named), std::string::npos) << e.what();
-    }
-    EXPECT_EQ(s.x, before) << b.named;
+    expect_refused(m, s, b.named);
   }
 }
 
@@ -96,14 +102,7 @@ TEST(RigidChecks, BadTriangleContactFieldIsAConfigErrorNamingIt) {
     c.thickness = Real(0.005);
     b.spoil(c);
     s.triangle_contacts = {c};
-    const std::vector<Vec3> before = s.x;
-    try {
-      xpbd::step(m, s, xpbd::StepConfig{});
-      ADD_FAILURE() << b.named << ": accepted";
-    } catch (const xpbd::ConfigError& e) {
-      EXPECT_NE(std::string(e.what()).find(b.named), std::string::npos) << e.what();
-    }
-    EXPECT_EQ(s.x, before) << b.named;
+    expect_refused(m, s, b.named);
   }
 }
 
