@@ -173,6 +173,87 @@ TEST(RigidEdges, BadContactsAreNamed) {
   expect_named([](xpbd::BodyEdgeContact& c) { c.closing_speed = std::numeric_limits<Real>::infinity(); },
                "an infinite closing speed");
   expect_named([](xpbd::BodyEdgeContact& c) { c.thickness = -1; }, "thickness -1");
+  expect_named([](xpbd::BodyEdgeContact& c) { c.static_friction = std::numeric_limits<Real>::quiet_NaN(); },
+               "a NaN static friction");
+}
+
+// Friction (BodyEdgeContact::static_friction, dynamic_friction): a soft
+// edge of two particles along z resting across a static world edge along
+// x, the thickness above it, both particles sliding along x at v0. Only
+// the edge contact holds them up (at t = 1/2, so the pair does not tip),
+// and Coulomb's law stops them after v0^2 / (2 mu g): with mu_s = mu_d at
+// the position level, and with mu_s = 0 in the velocity pass alone
+// (edge_contact_velocities).
+struct Slide {
+  xpbd::Model model;
+  xpbd::State state;
+};
+
+Slide sliding_edge(Real v0, Real mu, Real slope, Real mu_s) {
+  const Real t = Real(0.005);
+  xpbd::SceneDesc scene;
+  scene.add_particle(Vec3(0, t, Real(-0.4)), Real(0.5));
+  scene.add_particle(Vec3(0, t, Real(0.4)), Real(0.5));
+  Slide s{xpbd::compile(scene), {}};
+  s.state = xpbd::make_state(s.model);
+  for (Vec3& v : s.state.v) v = Vec3(v0, 0, 0);
+  xpbd::BodyEdgeContact c;
+  c.body = -1;
+  // The rigid edge rises along x at `slope` (rad).
+  c.a = Vec3(-2 * std::cos(slope), -2 * std::sin(slope), 0);
+  c.b = -c.a;
+  c.p = {0, 1};
+  c.out = Vec3(-std::sin(slope), std::cos(slope), 0);
+  c.thickness = t;
+  c.static_friction = mu_s;
+  c.dynamic_friction = mu;
+  s.state.edge_contacts.push_back(c);
+  return s;
+}
+
+TEST(RigidEdges, SoftEdgeSlidingAcrossAStaticEdgeStopsAtTheCoulombDistance) {
+  const Real v0 = 1, mu = Real(0.5), g = Real(9.81);
+  for (const Real mu_s : {mu, Real(0)}) {
+    Slide s = sliding_edge(v0, mu, 0, mu_s);
+    xpbd::StepConfig cfg;
+    cfg.gravity = Vec3(0, -g, 0);
+    cfg.substeps = 20;
+    for (int k = 0; k < 40; ++k) xpbd::step(s.model, s.state, cfg);
+    const double expected = double(v0 * v0 / (2 * mu * g));  // 0.102 m, in 0.2 s
+    for (int i = 0; i < 2; ++i) {
+      // Discretisation: of the order of a substep's travel, v0 h ~ 0.8 mm.
+      EXPECT_NEAR(double(s.state.x[std::size_t(i)].x()), expected, 0.02 * expected) << "mu_s " << mu_s;
+      EXPECT_LT(double(s.state.v[std::size_t(i)].norm()), 1e-3) << "mu_s " << mu_s;
+      EXPECT_NEAR(double(s.state.x[std::size_t(i)].y()), 0.005, 1e-4);  // held up by the edge
+    }
+  }
+}
+
+// On a static edge rising at 0.2 rad, below the friction angle atan(0.5)
+// = 0.46 rad, the resting soft edge stays where it is; at 0.6 rad it
+// slides down with acceleration g (sin a - mu cos a) along the edge.
+TEST(RigidEdges, SoftEdgeOnASlopingEdgeHoldsBelowTheFrictionAngleAndSlidesAbove) {
+  const Real mu = Real(0.5), g = Real(9.81);
+  xpbd::StepConfig cfg;
+  cfg.gravity = Vec3(0, -g, 0);
+  cfg.substeps = 20;
+  for (const Real slope : {Real(0.2), Real(0.6)}) {
+    Slide s = sliding_edge(0, mu, slope, mu);
+    // Start on the sloping edge at the thickness: along its normal.
+    for (Vec3& x : s.state.x) x = Vec3(-std::sin(slope), std::cos(slope), 0) * Real(0.005) + Vec3(0, 0, x.z());
+    const int steps = 30;  // 0.5 s
+    for (int k = 0; k < steps; ++k) xpbd::step(s.model, s.state, cfg);
+    const Vec3 along(std::cos(slope), std::sin(slope), 0);
+    const double moved = double(s.state.x[0].dot(along));
+    const double time = double(steps) * double(cfg.dt);
+    const double a = double(g * (std::sin(slope) - mu * std::cos(slope)));
+    if (a < 0) {
+      EXPECT_NEAR(moved, 0.0, 1e-4) << slope;
+    } else {
+      // Downhill: -a t^2 / 2 = -0.171 m at 0.6 rad; within 3 %.
+      EXPECT_NEAR(moved, -0.5 * a * time * time, 0.03 * 0.5 * a * time * time) << slope;
+    }
+  }
 }
 
 }  // namespace

@@ -104,6 +104,10 @@ void check_edge_contact(const Model& m, const State& s, std::size_t k) {
     throw ConfigError("state.edge_contacts[" + std::to_string(k) +
                       "]: a, b must be finite, out a unit vector, thickness finite and >= 0, reach >= 0 (or "
                       "infinity) and closing_speed finite and >= 0");
+  if (!std::isfinite(c.static_friction) || !std::isfinite(c.dynamic_friction))
+    throw ConfigError(at("edge_contacts", k, "static_friction") + " and dynamic_friction: " +
+                      format_value(double(c.static_friction)) + ", " + format_value(double(c.dynamic_friction)) +
+                      " must be finite");
 }
 
 void check_world_contact(const State& s, std::size_t k) {

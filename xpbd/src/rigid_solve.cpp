@@ -98,7 +98,7 @@ void begin_substep(const Model& m, State& s) {
   std::fill(s.attachment_lambda.begin(), s.attachment_lambda.end(), Real(0));
   std::fill(s.attachment_impulse.begin(), s.attachment_impulse.end(), Vec3::Zero());
   std::fill(s.triangle_contact_lambda.begin(), s.triangle_contact_lambda.end(), ContactLambda{});
-  std::fill(s.edge_contact_lambda.begin(), s.edge_contact_lambda.end(), Real(0));
+  std::fill(s.edge_contact_lambda.begin(), s.edge_contact_lambda.end(), ContactLambda{});
   std::fill(s.world_contact_lambda.begin(), s.world_contact_lambda.end(), ContactLambda{});
   for (std::size_t k = 0; k < s.contacts.size(); ++k) {
     const BodyContact& c = s.contacts[k];

@@ -552,7 +552,7 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
       // particles: not after the last substep, nor before the contacts'
       // friction and restitution (stage 5).
       const VelocityUpdate u = velocity_update(cfg, h, blend);
-      if (sub + 1 < cfg.substeps && s.contacts.empty() && s.triangle_contacts.empty())
+      if (sub + 1 < cfg.substeps && s.contacts.empty() && s.triangle_contacts.empty() && s.edge_contacts.empty())
         pending = u;
       else
         update_velocities(m, s, cfg, u);
@@ -560,10 +560,12 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
       s.velocity_step = std::max({cfg.dt, s.velocity_step - h, Real(0.99) * s.velocity_step});
     });
     // 5. Contact friction and restitution on the new velocities.
-    timed(t, stage::contact_velocities, !s.contacts.empty() || !s.triangle_contacts.empty(), [&] {
-      if (!s.contacts.empty()) rigid::contact_velocities(m, s, h, cfg.gravity.norm());
-      if (!s.triangle_contacts.empty()) rigid::triangle_contact_velocities(m, s, h);
-    });
+    timed(t, stage::contact_velocities,
+          !s.contacts.empty() || !s.triangle_contacts.empty() || !s.edge_contacts.empty(), [&] {
+            if (!s.contacts.empty()) rigid::contact_velocities(m, s, h, cfg.gravity.norm());
+            if (!s.triangle_contacts.empty()) rigid::triangle_contact_velocities(m, s, h);
+            if (!s.edge_contacts.empty()) rigid::edge_contact_velocities(m, s, h);
+          });
     timed(t, stage::contact_velocities, !s.world_contacts.empty(),
           [&] { rigid::world_contact_velocities(s, h); });
   }

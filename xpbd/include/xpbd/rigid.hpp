@@ -129,7 +129,10 @@ struct BodyTriangleContact {
 // closest points lie on their edges (u and t in [0, 1]; past an end the
 // feature points and the particle contacts answer), the edges are more
 // than about a degree from parallel, and within its reach (as
-// BodyTriangleContact). No friction.
+// BodyTriangleContact). Coulomb friction as BodyTriangleContact's: static
+// at the position level after each push, between the soft edge's point
+// x_s(t) and the body's point x_r(u); the rest of mu_d lambda_n on the
+// new velocities (edge_contact_velocities).
 inline constexpr Real kEdgeLean = Real(0.25);  // cosine
 struct BodyEdgeContact {
   Index body = -1;                     // index into State::bodies (-1 = static world edge)
@@ -139,6 +142,8 @@ struct BodyEdgeContact {
   Real thickness = 0;                  // m
   Real reach = std::numeric_limits<Real>::infinity();  // m, >= 0 (BodyTriangleContact::reach)
   Real closing_speed = 0;              // m/s, >= 0 and finite
+  Real static_friction = 0;            // mu_s, dimensionless (<= 0: none)
+  Real dynamic_friction = 0;           // mu_d, dimensionless (<= 0: none)
 };
 
 // Whether triangle contact c, whose constraint is C (C >= 0 holds), is deep

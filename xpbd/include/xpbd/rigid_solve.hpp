@@ -35,13 +35,18 @@ void solve_contacts(const Model& m, State& s, Real h);
 // level.
 void solve_triangle_contacts(const Model& m, State& s, Real h);
 // Rigid edges against soft edges (BodyEdgeContact; rigid_edges.cpp): normal
-// push within each contact's reach, no friction.
+// push within each contact's reach, then static Coulomb friction at
+// position level.
 void solve_edge_contacts(const Model& m, State& s, Real h);
+// Dynamic Coulomb friction of the edge contacts on the new velocities.
+void edge_contact_velocities(const Model& m, State& s, Real h);
 // Contact k's constraint C at the current positions, its gradient's unit
 // normal side n, the soft edge's parameter t and the body's lever arm rw;
 // false where it does not act (closest points past an end, parallel edges,
-// beyond its reach in a substep of h).
-bool edge_contact_constraint(const State& s, std::size_t k, Real h, Real& C, Vec3& n, Real& t, Vec3& rw);
+// beyond its reach in a substep of h). u, if given: the rigid edge's
+// parameter (its point a + u (b - a) in the body frame).
+bool edge_contact_constraint(const State& s, std::size_t k, Real h, Real& C, Vec3& n, Real& t, Vec3& rw,
+                             Real* u_out = nullptr);
 // Dynamic Coulomb friction of the rigid-feature-vs-triangle contacts on
 // the new velocities (after the particle and body velocity updates).
 void triangle_contact_velocities(const Model& m, State& s, Real h);

@@ -69,7 +69,7 @@ struct State {
   std::vector<BodyTriangleContact> triangle_contacts;  // rigid features vs soft triangles
   std::vector<ContactLambda> triangle_contact_lambda;  // parallel (sized by step())
   std::vector<BodyEdgeContact> edge_contacts;          // rigid edges vs soft edges
-  std::vector<Real> edge_contact_lambda;               // kg*m, parallel (sized by step())
+  std::vector<ContactLambda> edge_contact_lambda;      // parallel (sized by step())
   std::vector<BodyAttachment> attachments;
   std::vector<Real> attachment_lambda;      // kg*m, parallel to attachments (sized by step())
   // kg*m, world, parallel to attachments (sized by step()): the position
