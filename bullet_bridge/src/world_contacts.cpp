@@ -312,6 +312,12 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
           return detail::may_have_features(*c.obj);
         }))
       triangle_bounds(s, dt);
+    // Without collision triangles, the surface triangles' edges meet the
+    // box edges (edge_contacts_of) at the culled particles.
+    const bool surface_edges =
+        !triangles && cs.edge_contacts && cs.surface_edge_contacts && !m.surface_triangles.empty();
+    if (surface_edges && s.tri_edges.size() != m.surface_triangles.size())
+      detail::surface_edges(m, s.soft_edges, s.tri_edges, s.edge_begin, s.edges_at);
     const std::size_t nc = sc.candidates.size();
     if (s.found.size() < nc) s.found.resize(nc);
     const int slots =
@@ -322,7 +328,7 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
       out.clear();
       particle_contacts_of(s, k, dt, out);
       if (triangles) triangle_contacts_of(s, k, dt, lo, hi, s.feature_scratch[std::size_t(slot)], out);
-      if (triangles && cs.edge_contacts) edge_contacts_of(s, k, dt, lo, hi, s.feature_scratch[std::size_t(slot)], out);
+      if ((triangles && cs.edge_contacts) || surface_edges) edge_contacts_of(s, k, dt, lo, hi, s.feature_scratch[std::size_t(slot)], out);
     });
     for (std::size_t k = 0; k < nc; ++k) {
       CandidateContacts& f = s.found[k];
@@ -344,8 +350,11 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
         st.triangle_contacts.insert(st.triangle_contacts.end(), f.triangle.begin(), f.triangle.end());
       }
       stats_.triangle_contacts += static_cast<int>(st.triangle_contacts.size());
+    }
+    if (triangles || surface_edges) {
       for (std::size_t k = 0; k < nc; ++k) {
         CandidateContacts& f = s.found[k];
+        if (!triangles) stats_.capped_features += f.capped;
         if (f.edge.empty()) continue;
         const Index body = body_index(s, sc.candidates[k].obj, dt);
         for (xpbd::BodyEdgeContact& c : f.edge) c.body = body;

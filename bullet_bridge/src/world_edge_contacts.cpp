@@ -90,6 +90,22 @@ void find_soft_edges(const std::vector<std::array<xpbd::Index, 3>>& tris, std::v
   }
 }
 
+void surface_edges(const xpbd::Model& m, std::vector<std::array<xpbd::Index, 2>>& edges,
+                   std::vector<std::array<int, 3>>& tri_edges, std::vector<int>& edge_begin, std::vector<int>& edges_at) {
+  find_soft_edges(m.surface_triangles, edges, tri_edges);
+  const std::size_t n = std::size_t(m.num_particles());
+  edge_begin.assign(n + 1, 0);
+  for (const auto& [a, b] : edges) {
+    ++edge_begin[std::size_t(a) + 1];
+    ++edge_begin[std::size_t(b) + 1];
+  }
+  for (std::size_t i = 0; i < n; ++i) edge_begin[i + 1] += edge_begin[i];
+  edges_at.assign(std::size_t(edge_begin[n]), 0);
+  std::vector<int> fill(edge_begin.begin(), edge_begin.end() - 1);
+  for (std::size_t e = 0; e < edges.size(); ++e)
+    for (const xpbd::Index p : edges[e]) edges_at[std::size_t(fill[std::size_t(p)]++)] = int(e);
+}
+
 }  // namespace detail
 
 void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, const Vec3& sys_lo, const Vec3& sys_hi,
@@ -98,7 +114,13 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
   const xpbd::State& st = s.state;
   const ContactSettings& cs = s.settings.contacts;
   const auto& tris = m.collision_triangles;
-  if (s.tri_edges.size() != tris.size() || tri_lo_.size() != tris.size()) return;  // no bounds this step
+  // Without collision triangles: the surface triangles' edges at the
+  // particles the culling found near the body (every particle without the
+  // culling), none at or next to a particle attached to it.
+  const bool surface = tris.empty();
+  if (surface ? s.tri_edges.size() != m.surface_triangles.size()
+              : (s.tri_edges.size() != tris.size() || tri_lo_.size() != tris.size()))
+    return;  // no edges, or no bounds this step
   const detail::Candidate& cand = s.contact.candidates[k];
   fs.box_edges.clear();
   collect_box_edges(*cand.obj->getCollisionShape(), btTransform::getIdentity(), fs.box_edges);
@@ -108,12 +130,48 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
   const Vec3 vb = sh.v;
   const Real ab = dt * sh.accel.norm();
   const Real wb = sh.w.norm() + dt * sh.ang_accel.norm();
-  const bool use_bvh = tris.size() >= std::size_t(cs.triangle_bvh_from) && s.tri_bvh;
+  const bool use_bvh = !surface && tris.size() >= std::size_t(cs.triangle_bvh_from) && s.tri_bvh;
   if (fs.edge_stamp.size() != s.soft_edges.size()) {
     fs.edge_stamp.assign(s.soft_edges.size(), 0);
     fs.stamp = 0;
   }
-  if (use_bvh) {
+  const auto next_stamp = [&fs] {
+    if (++fs.stamp == 0) {  // wrapped: forget every mark
+      std::fill(fs.edge_stamp.begin(), fs.edge_stamp.end(), 0u);
+      fs.stamp = 1;
+    }
+  };
+  if (surface) {
+    const detail::ContactScratch& sc = s.contact;
+    const bool has_attached = std::any_of(attachments_.begin(), attachments_.end(), [&](const Attachment& a) {
+      return a.system == s.id && a.body == cand.obj;
+    });
+    // Held: a particle attached to the body, or one edge from it.
+    const auto held = [&](Index p) {
+      if (attached(s, cand.obj, p)) return true;
+      for (int q = s.edge_begin[std::size_t(p)]; q < s.edge_begin[std::size_t(p) + 1]; ++q) {
+        const auto [a0, a1] = s.soft_edges[std::size_t(s.edges_at[std::size_t(q)])];
+        if (attached(s, cand.obj, a0 == p ? a1 : a0)) return true;
+      }
+      return false;
+    };
+    next_stamp();
+    fs.near_edges.clear();
+    const Index count = cs.cull ? sc.pair_begin[k + 1] - sc.pair_begin[k] : m.num_particles();
+    for (Index j = 0; j < count; ++j) {
+      const Index i = cs.cull ? sc.particles[std::size_t(sc.pair_begin[k] + j)] : j;
+      if (m.inv_mass[i] == Real(0)) continue;  // never in a culled list
+      for (int q = s.edge_begin[std::size_t(i)]; q < s.edge_begin[std::size_t(i) + 1]; ++q) {
+        const int e = s.edges_at[std::size_t(q)];
+        if (fs.edge_stamp[std::size_t(e)] == fs.stamp) continue;
+        fs.edge_stamp[std::size_t(e)] = fs.stamp;
+        const auto [p0, p1] = s.soft_edges[std::size_t(e)];
+        if (has_attached && (held(p0) || held(p1))) continue;
+        fs.near_edges.push_back(e);
+      }
+    }
+    if (fs.near_edges.empty()) return;
+  } else if (use_bvh) {
     fs.body_edges_tris = fs.body_tris;
     std::sort(fs.body_edges_tris.begin(), fs.body_edges_tris.end());
   } else if (fs.all_tris.size() != tris.size()) {
@@ -121,10 +179,7 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
     for (std::size_t t = 0; t < tris.size(); ++t) fs.all_tris[t] = int(t);
   }
   for (const auto& [a, b, outward] : fs.box_edges) {
-    if (++fs.stamp == 0) {  // wrapped: forget every mark
-      std::fill(fs.edge_stamp.begin(), fs.edge_stamp.end(), 0u);
-      fs.stamp = 1;
-    }
+    next_stamp();
     const Vec3 A = to_vec(start * to_bt(a)), B = to_vec(start * to_bt(b));
     const Vec3 er = B - A;
     const Vec3 out_dir = to_vec(start.getBasis() * to_bt(outward));
@@ -133,6 +188,61 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
     // their thickness and margin already (triangle_bounds).
     const Vec3 lo = (A.cwiseMin(B).array() - travel).matrix(), hi = (A.cwiseMax(B).array() + travel).matrix();
     if ((lo.array() > sys_hi.array()).any() || (hi.array() < sys_lo.array()).any()) continue;  // away from the system
+    int found = 0;
+    // The pair (box edge, soft edge e): a contact if the two lines' closest
+    // points lie on both edges, near enough, on a side that leans outwards.
+    const auto test = [&](const int e) {
+      const auto [p0, p1] = s.soft_edges[std::size_t(e)];
+      const Vec3 P = st.x[p0], es = st.x[p1] - P;
+      const Vec3 nn = er.cross(es);
+      const Real rr = er.squaredNorm(), ss = es.squaredNorm(), n2 = nn.squaredNorm();
+      if (!(n2 > kParallelSin * kParallelSin * rr * ss)) return;
+      const Vec3 w0 = A - P;
+      const Real rs = er.dot(es), d = er.dot(w0), f = es.dot(w0);
+      const Real u = (rs * f - ss * d) / n2, v = (rr * f - rs * d) / n2;
+      if (!(u >= Real(0) && u <= Real(1) && v >= Real(0) && v <= Real(1))) return;
+      // The side is the outside of the box edge, whichever side the soft
+      // edge starts on: one that has just gone through is pushed back
+      // out, not held inside.
+      const Real lean = nn.dot(out_dir) / std::sqrt(n2);
+      if (!(std::abs(lean) >= xpbd::kEdgeLean)) return;
+      const Real dist = nn.dot(P - A) / std::sqrt(n2);
+      const Real thick = std::max({m.radius[p0], m.radius[p1], Real(0)}) + cs.thickness;
+      const Real move = std::max(travel, dt * (std::max((st.v[p0] - vb).norm(), (st.v[p1] - vb).norm()) + ab));
+      // Nearer than the band on the outside, or inside by at most the
+      // thickness. Deeper inside, the soft edge has gone through at
+      // speed (a blade's edge), and it is neither held there nor pushed
+      // out over the edge from deep in (the particle contacts answer).
+      const Real out_dist = lean > Real(0) ? dist : -dist;
+      if (!(out_dist <= thick + cs.margin + move) || !(out_dist >= -thick)) return;
+      if (++found == kEdgeContacts) ++out.capped;
+      xpbd::BodyEdgeContact c;  // body: set when joined (step_system)
+      c.a = a;
+      c.b = b;
+      c.p = {p0, p1};
+      c.out = outward;
+      c.thickness = thick;
+      c.reach = cs.margin;
+      c.closing_speed = move / dt;
+      c.static_friction = cs.static_friction * cand.obj->getFriction();
+      c.dynamic_friction = cs.dynamic_friction * cand.obj->getFriction();
+      out.edge.push_back(c);
+    };
+    if (surface) {
+      // The soft edge's box over the step, grown by its thickness and
+      // margin, against the box edge's.
+      for (const int e : fs.near_edges) {
+        if (found == kEdgeContacts) break;
+        const auto [p0, p1] = s.soft_edges[std::size_t(e)];
+        const Real grow = std::max({m.radius[p0], m.radius[p1], Real(0)}) + cs.thickness + cs.margin;
+        const Vec3 e0 = st.x[p0] + dt * st.v[p0], e1 = st.x[p1] + dt * st.v[p1];
+        const Vec3 elo = (st.x[p0].cwiseMin(e0).cwiseMin(st.x[p1]).cwiseMin(e1).array() - grow).matrix();
+        const Vec3 ehi = (st.x[p0].cwiseMax(e0).cwiseMax(st.x[p1]).cwiseMax(e1).array() + grow).matrix();
+        if ((lo.array() > ehi.array()).any() || (hi.array() < elo.array()).any()) continue;
+        test(e);
+      }
+      continue;
+    }
     // With the hierarchy, the triangles near the body's feature points
     // (triangle_contacts_of's query, sorted here once: the box's corners
     // are feature points, so they hold every triangle near its edges);
@@ -141,46 +251,13 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
       if (use_bvh) return fs.body_edges_tris;
       return fs.all_tris;
     }();
-    int found = 0;
     for (const int t : near) {
       if ((lo.array() > tri_hi_[std::size_t(t)].array()).any() || (hi.array() < tri_lo_[std::size_t(t)].array()).any())
         continue;
       for (const int e : s.tri_edges[std::size_t(t)]) {
         if (fs.edge_stamp[std::size_t(e)] == fs.stamp || found == kEdgeContacts) continue;
         fs.edge_stamp[std::size_t(e)] = fs.stamp;
-        const auto [p0, p1] = s.soft_edges[std::size_t(e)];
-        const Vec3 P = st.x[p0], es = st.x[p1] - P;
-        const Vec3 nn = er.cross(es);
-        const Real rr = er.squaredNorm(), ss = es.squaredNorm(), n2 = nn.squaredNorm();
-        if (!(n2 > kParallelSin * kParallelSin * rr * ss)) continue;
-        const Vec3 w0 = A - P;
-        const Real rs = er.dot(es), d = er.dot(w0), f = es.dot(w0);
-        const Real u = (rs * f - ss * d) / n2, v = (rr * f - rs * d) / n2;
-        if (!(u >= Real(0) && u <= Real(1) && v >= Real(0) && v <= Real(1))) continue;
-        // The side is the outside of the box edge, whichever side the soft
-        // edge starts on: one that has just gone through is pushed back
-        // out, not held inside.
-        const Real lean = nn.dot(out_dir) / std::sqrt(n2);
-        if (!(std::abs(lean) >= xpbd::kEdgeLean)) continue;
-        const Real dist = nn.dot(P - A) / std::sqrt(n2);
-        const Real thick = std::max({m.radius[p0], m.radius[p1], Real(0)}) + cs.thickness;
-        const Real move = std::max(travel, dt * (std::max((st.v[p0] - vb).norm(), (st.v[p1] - vb).norm()) + ab));
-        // Nearer than the band on the outside, or inside by at most the
-        // thickness. Deeper inside, the soft edge has gone through at
-        // speed (a blade's edge), and it is neither held there nor pushed
-        // out over the edge from deep in (the particle contacts answer).
-        const Real out_dist = lean > Real(0) ? dist : -dist;
-        if (!(out_dist <= thick + cs.margin + move) || !(out_dist >= -thick)) continue;
-        if (++found == kEdgeContacts) ++out.capped;
-        xpbd::BodyEdgeContact c;  // body: set when joined (step_system)
-        c.a = a;
-        c.b = b;
-        c.p = {p0, p1};
-        c.out = outward;
-        c.thickness = thick;
-        c.reach = cs.margin;
-        c.closing_speed = move / dt;
-        out.edge.push_back(c);
+        test(e);
       }
     }
   }

@@ -207,6 +207,7 @@ struct XpbdWorld::FeatureScratch {
   std::vector<std::array<Vec3, 3>> box_edges;  // a body's box edges: ends, outward bisector (body frame)
   std::vector<int> body_edges_tris, all_tris;  // the triangles a body's box edges test, ascending
   std::vector<unsigned> edge_stamp;            // per soft edge: the last rigid edge that tested it
+  std::vector<int> near_edges;                 // surface edges at the body's culled particles
   unsigned stamp = 0;
 };
 
@@ -217,6 +218,12 @@ namespace detail {
 // (world_edge_contacts.cpp).
 void find_soft_edges(const std::vector<std::array<xpbd::Index, 3>>& tris, std::vector<std::array<xpbd::Index, 2>>& edges,
                      std::vector<std::array<int, 3>>& tri_edges);
+
+// A system without collision triangles: its surface triangles' edges as
+// soft edges, and each particle's (System::edge_begin, edges_at); made
+// once (world_edge_contacts.cpp).
+void surface_edges(const xpbd::Model& m, std::vector<std::array<xpbd::Index, 2>>& edges,
+                   std::vector<std::array<int, 3>>& tri_edges, std::vector<int>& edge_begin, std::vector<int>& edges_at);
 
 // Calls f(k, slot) once for every k in [0, count): on the calling thread in
 // order without a pool (or with one thread, or one item), else on up to
@@ -270,9 +277,13 @@ struct XpbdWorld::System {
   std::vector<FeatureScratch> feature_scratch;  // scratch: per thread of the search
   std::unique_ptr<detail::TriangleBvh> tri_bvh;  // ContactSettings::triangle_bvh_from; made on first use
   // The collision triangles' edges, each once, and each triangle's three
-  // (indices into soft_edges); made on first use (triangle_bounds).
+  // (indices into soft_edges); made on first use (triangle_bounds). A
+  // system without collision triangles takes its surface triangles' edges
+  // instead (surface_edges), and each particle's edges:
+  // soft_edges[edges_at[edge_begin[i] .. edge_begin[i + 1])].
   std::vector<std::array<xpbd::Index, 2>> soft_edges;
   std::vector<std::array<int, 3>> tri_edges;
+  std::vector<int> edge_begin, edges_at;
   std::vector<BodyContactReport> report;     // contact_report(id): the last step's
   StepCallback callback;                     // set_step_callback(id)
   bool stepped = false;                      // stepped in the current internal step

@@ -138,7 +138,7 @@ std::unique_ptr<btTriangleMesh> box_mesh(const Vec3& h) {
 // not a btBoxShape. rise > 0 (with mesh): the mesh is a kinematic body,
 // still for the first second, then moved up at `rise` m/s for one second,
 // lifting the cloth that rests on it, then still again.
-DrapeRun drape(Feature f, bool triangles, Real seconds, bool mesh = false, Real rise = 0) {
+DrapeRun drape(Feature f, bool triangles, Real seconds, bool mesh = false, Real rise = 0, bool surface_edges = false) {
   std::unique_ptr<btTriangleMesh> box_triangles;  // outlives bw, whose shape uses it
   BulletWorld bw;
   add_floor(bw);
@@ -209,6 +209,7 @@ DrapeRun drape(Feature f, bool triangles, Real seconds, bool mesh = false, Real 
   set.substeps = 10;
   set.iterations = 4;
   set.contacts.thickness = kThick;
+  set.contacts.surface_edge_contacts = surface_edges;
   // feature_spacing keeps its default, 1 cm, well below the 10 cm edges.
   const auto id = xw.add_system(cloth.model, cloth.state, set);
 
@@ -292,6 +293,24 @@ TEST_P(ClothOnFeature, TriangleContactsKeepTheFeatureUnderTheCloth) {
   if (f == Feature::edge) {
     EXPECT_NEAR(off.end_max_d, Real(0.05) - kThick * std::sqrt(Real(2)), Real(2e-3));
   }
+}
+
+// A cloth without collision triangles over the box's ridge, with its
+// surface triangles' edges against the box's edges
+// (ContactSettings::surface_edge_contacts): each cloth edge across the
+// ridge is held the thickness above it, and so is the cloth between two
+// of them (a triangle's plane is linear along the ridge), where the control
+// above leaves the ridge 0.043 m through the cloth.
+TEST(ClothOnRidge, SurfaceEdgeContactsKeepTheRidgeUnderAClothWithoutTriangles) {
+  const DrapeRun on = drape(Feature::edge, false, 3, false, 0, true);
+  std::printf("edge, surface edge contacts: max d %.4g m (thickness %.3g m), at the end d in [%.4g, %.4g] m, "
+              "lowest particle %.4g m\n",
+              on.max_d, kThick, on.end_min_d, on.end_max_d, on.lowest);
+  ASSERT_TRUE(on.always_covered) << "the cloth left the ridge";
+  EXPECT_LT(on.max_d, Real(0));
+  EXPECT_NEAR(on.end_max_d, -kThick, Real(1e-3));
+  EXPECT_NEAR(on.end_min_d, -kThick, Real(1e-3));
+  EXPECT_GT(on.lowest, Real(0));
 }
 
 // The ridge and the corner of a kinematic mesh that lifts the cloth resting

@@ -156,10 +156,12 @@ xpbd_bullet::SystemId add_cloth(XpbdWorld& xw, btRigidBody* bar, const SystemSet
 // the bodies after XPBD ran (ContactSettings::settle and spacers).
 // substeps: 0 for the default; wrinkle_seed: add_cloth's; penetration:
 // the tolerance's contact target (SystemSettings::tolerance, m, 0 = off:
-// the fixed budget); wedges: ContactSettings::wedges.
+// the fixed budget); wedges: ContactSettings::wedges; surface_edges:
+// ContactSettings::surface_edge_contacts.
 Result run(int bodies, bool cloth, int contact_sweeps = 0, bool after_solve = true, int substeps = 0,
            unsigned wrinkle_seed = 1, int frames = kFrames,
-           double penetration = SystemSettings{}.tolerance.penetration, bool wedges = true) {
+           double penetration = SystemSettings{}.tolerance.penetration, bool wedges = true,
+           bool surface_edges = false) {
   BulletWorld bw;
   bw.add_body(new btStaticPlaneShape(btVector3(0, 1, 0), 0), 0, BulletWorld::at(Vec3::Zero()));
   btRigidBody* bar = bw.add_body(new btBoxShape(bt(kBarHalf)), kBarMass, BulletWorld::at(kBarStart));
@@ -169,6 +171,7 @@ Result run(int bodies, bool cloth, int contact_sweeps = 0, bool after_solve = tr
   set.contact_sweeps = contact_sweeps;
   set.contacts.settle = set.contacts.spacers = after_solve;
   set.contacts.wedges = wedges;
+  set.contacts.surface_edge_contacts = surface_edges;
   if (substeps > 0) set.substeps = substeps;
   set.tolerance.penetration = penetration;
   xpbd_bullet::SystemId id;
@@ -316,11 +319,12 @@ TEST_P(SqueezeSeeds, NoParticleDeeperThanTheThickness) {
 INSTANTIATE_TEST_SUITE_P(Wrinkle, SqueezeSeeds, ::testing::Values(3u, 27u));
 
 // The campaign behind docs/squeeze.md's tables (scripts/squeeze_seeds.sh;
-// not run by the suite): wrinkle seeds 1-32, 49 bodies, the defaults, one
-// line each.
-TEST(DISABLED_SqueezeCampaign, WrinkleSeeds1To32) {
+// not run by the suite): wrinkle seeds 1-32, 49 bodies, the defaults (or
+// with ContactSettings::surface_edge_contacts), one line each.
+void campaign(bool surface_edges) {
   for (unsigned seed = 1; seed <= 32; ++seed) {
-    const Result r = run(49, true, 0, true, 0, seed);
+    const Result r = run(49, true, 0, true, 0, seed, kFrames, SystemSettings{}.tolerance.penetration, true,
+                         surface_edges);
     // The bar's mean speed over the last 100 frames (from its centre's
     // path): whether the pile has come to rest.
     double speed = 0;
@@ -333,6 +337,9 @@ TEST(DISABLED_SqueezeCampaign, WrinkleSeeds1To32) {
                 int(r.exploded), r.frames_over, r.edges_over, r.edges_through, speed);
   }
 }
+
+TEST(DISABLED_SqueezeCampaign, WrinkleSeeds1To32) { campaign(false); }
+TEST(DISABLED_SqueezeCampaign, WrinkleSeeds1To32WithSurfaceEdges) { campaign(true); }
 
 // The same application without the random bodies, with extra sweeps where
 // the contacts need them (SystemSettings::contact_sweeps = 8, the default
