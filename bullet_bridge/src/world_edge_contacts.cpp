@@ -178,7 +178,9 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
     fs.all_tris.resize(tris.size());
     for (std::size_t t = 0; t < tris.size(); ++t) fs.all_tris[t] = int(t);
   }
-  for (const auto& [a, b, outward] : fs.box_edges) {
+  for (const auto& box_edge : fs.box_edges) {
+    // Not a structured binding: the lambda below captures them.
+    const Vec3 &a = box_edge[0], &b = box_edge[1], &outward = box_edge[2];
     next_stamp();
     const Vec3 A = to_vec(start * to_bt(a)), B = to_vec(start * to_bt(b));
     const Vec3 er = B - A;
