@@ -87,6 +87,7 @@ void solve_edge_friction(const Model& m, State& s, std::size_t k, const Vec3& n,
 }  // namespace
 
 void solve_edge_contacts(const Model& m, State& s, Real h) {
+  const Real inv_h2 = Real(1) / (h * h);
   for (std::size_t k = 0; k < s.edge_contacts.size(); ++k) {
     const BodyEdgeContact& c = s.edge_contacts[k];
     Real C, t, u;
@@ -106,6 +107,14 @@ void solve_edge_contacts(const Model& m, State& s, Real h) {
     apply_position_impulse(b, rw, -dl * n);
     record_push(s, c.body, -dl * n);
     solve_edge_friction(m, s, k, n, t, u);
+    // The push moved the two particles along n, which leans off the normals
+    // of their own contacts (a cloth lying on the ground under a box's edge
+    // that comes down at a slant): they slid along those contacts. Their
+    // friction, solved earlier in the sweep, takes that back now; left to
+    // the next sweep, the last sweep's slide stays, and the box's edge
+    // pushed the cloth out from under it (docs/squeeze.md).
+    for (const Index head : s.edge_contact_head[k])
+      if (head >= 0) solve_particle_friction(m, s, static_cast<std::size_t>(head), inv_h2);
   }
 }
 

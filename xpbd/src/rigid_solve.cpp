@@ -16,8 +16,9 @@ using namespace detail;
 
 namespace {
 
-// Chains of the contacts of each particle (contact_last is all -1 between
-// calls: only the entries set here are reset).
+// Chains of the contacts of each particle, and the first contacts of each
+// edge contact's particles (contact_last is all -1 between calls: only the
+// entries set here are reset).
 void build_contact_chains(const Model& m, State& s) {
   const std::size_t nc = s.contacts.size();
   s.contact_lambda.resize(nc);
@@ -31,6 +32,13 @@ void build_contact_chains(const Model& m, State& s) {
     if (last >= 0) s.contact_next[static_cast<std::size_t>(last)] = Index(k);
     last = Index(k);
   }
+  // Each edge contact's particles' first contacts.
+  s.edge_contact_head.resize(s.edge_contacts.size());
+  for (std::size_t k = 0; k < s.edge_contacts.size(); ++k)
+    for (int e = 0; e < 2; ++e) {
+      const Index last = s.contact_last[static_cast<std::size_t>(s.edge_contacts[k].p[e])];
+      s.edge_contact_head[k][e] = last < 0 ? Index(-1) : s.contact_head[static_cast<std::size_t>(last)];
+    }
   for (const BodyContact& c : s.contacts) s.contact_last[static_cast<std::size_t>(c.particle)] = -1;
   // The attachments of each particle, first to last, and each contact's
   // first attachment.
@@ -205,6 +213,12 @@ void solve_contact_friction(const Model& m, State& s, std::size_t k) {
 
 }  // namespace
 
+void solve_particle_friction(const Model& m, State& s, std::size_t head, Real inv_h2) {
+  if (!solve_friction_group(m, s, head, inv_h2))
+    for (Index j = Index(head); j >= 0; j = s.contact_next[static_cast<std::size_t>(j)])
+      solve_contact_friction(m, s, static_cast<std::size_t>(j));
+}
+
 void solve_contacts(const Model& m, State& s, Real h) {
   const Real inv_h2 = Real(1) / (h * h);
   for (std::size_t k = 0; k < s.contacts.size(); ++k) {
@@ -221,9 +235,7 @@ void solve_contacts(const Model& m, State& s, Real h) {
     if (!solve_contact_group(m, s, k, inv_h2))
       for (Index j = Index(k); j >= 0; j = s.contact_next[static_cast<std::size_t>(j)])
         solve_contact_normal(m, s, static_cast<std::size_t>(j), inv_h2);
-    if (!solve_friction_group(m, s, k, inv_h2))
-      for (Index j = Index(k); j >= 0; j = s.contact_next[static_cast<std::size_t>(j)])
-        solve_contact_friction(m, s, static_cast<std::size_t>(j));
+    solve_particle_friction(m, s, k, inv_h2);
   }
 }
 

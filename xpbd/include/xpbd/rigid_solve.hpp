@@ -30,13 +30,17 @@ void predict_bodies(std::vector<RigidBody>& bodies, Real h);
 // push with static Coulomb friction at position level).
 void solve_attachments(const Model& m, State& s, Real h);
 void solve_contacts(const Model& m, State& s, Real h);
+// The friction of one particle's contacts, the chain from contact `head`
+// (State::contact_head): jointly, or one by one where the joint solve does
+// not apply (as solve_contacts does after their normal parts).
+void solve_particle_friction(const Model& m, State& s, std::size_t head, Real inv_h2);
 // Rigid features against soft triangles (BodyTriangleContact): normal push
 // within each contact's reach, then static Coulomb friction at position
 // level.
 void solve_triangle_contacts(const Model& m, State& s, Real h);
 // Rigid edges against soft edges (BodyEdgeContact; rigid_edges.cpp): normal
 // push within each contact's reach, then static Coulomb friction at
-// position level.
+// position level, then the friction of the two particles' own contacts.
 void solve_edge_contacts(const Model& m, State& s, Real h);
 // Dynamic Coulomb friction of the edge contacts on the new velocities.
 void edge_contact_velocities(const Model& m, State& s, Real h);

@@ -70,6 +70,10 @@ struct State {
   std::vector<ContactLambda> triangle_contact_lambda;  // parallel (sized by step())
   std::vector<BodyEdgeContact> edge_contacts;          // rigid edges vs soft edges
   std::vector<ContactLambda> edge_contact_lambda;      // parallel (sized by step())
+  // Per edge contact (internal, sized by step()): the first contact of each
+  // of its two particles, or -1 (rigid_edges.cpp: their friction follows
+  // the edge contact's push).
+  std::vector<std::array<Index, 2>> edge_contact_head;
   std::vector<BodyAttachment> attachments;
   std::vector<Real> attachment_lambda;      // kg*m, parallel to attachments (sized by step())
   // kg*m, world, parallel to attachments (sized by step()): the position
