@@ -11,16 +11,6 @@ namespace {
 constexpr std::int64_t kMaxCells = 512;  // cells one candidate box may cover in the grid
 constexpr std::size_t kPiece = 1024;     // particles per piece of the pair search
 
-// False only if the cube of half size `half` (m) around c and the box are
-// apart on an axis. A NaN makes every comparison false, so a pair with a NaN
-// is never skipped (query_point then reports the bad input, as without
-// culling).
-bool overlaps(const Vec3& c, Real half, const Box& b) {
-  for (int a = 0; a < 3; ++a)
-    if (c[a] + half < b.lo[a] || c[a] - half > b.hi[a]) return false;
-  return true;
-}
-
 
 }  // namespace
 

@@ -73,6 +73,16 @@ struct Candidate {
   bool by_motion = false;
 };
 
+// False only if the cube of half size `half` (m) around c and the box are
+// apart on an axis. A NaN makes every comparison false, so a pair with a NaN
+// is never skipped (query_point then reports the bad input, as without
+// culling).
+inline bool overlaps(const Vec3& c, Real half, const Box& b) {
+  for (int a = 0; a < 3; ++a)
+    if (c[a] + half < b.lo[a] || c[a] - half > b.hi[a]) return false;
+  return true;
+}
+
 struct GridEntry {
   xpbd::Cell cell;
   Index candidate = 0;
@@ -83,6 +93,10 @@ struct GridEntry {
 struct ContactScratch {
   std::vector<Candidate> candidates;
   std::vector<Real> half;              // m, per particle: half_i
+  // half_i before widen_for_edges widened it (then `widened`): the
+  // particle narrowphase queries only the pairs this half finds.
+  std::vector<Real> base_half;
+  bool widened = false;
   std::vector<Real> sides;             // m, scratch for the median cell size
   std::vector<GridEntry> entries;      // (cell, candidate) in insertion order
   std::vector<GridEntry> grid;         // the same, grouped by bucket

@@ -162,6 +162,9 @@ void XpbdWorld::particle_contacts_of(const System& s, std::size_t k, btScalar dt
   for (Index j = 0; j < count; ++j) {
     const Index i = cs.cull ? listed[j] : j;
     if (m.inv_mass[i] == Real(0)) continue;  // never in a culled list
+    // Listed for its edges only (ContactScratch::widened): the pairs
+    // without the widening.
+    if (cs.cull && sc.widened && !detail::overlaps(st.x[i], sc.base_half[std::size_t(i)], cand.box)) continue;
     if (has_attached && attached(s, obj, i)) continue;
     ++out.queries;
     const Real thick = m.radius[i] + cs.thickness;
@@ -294,10 +297,24 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
       c.box.hi.array() += grow;
       sc.candidates.push_back(c);
     }
+    // Without collision triangles, the surface triangles' edges meet the
+    // box edges (edge_contacts_of).
+    const bool triangles = !m.collision_triangles.empty();
+    const bool surface_edges =
+        !triangles && cs.edge_contacts && cs.surface_edge_contacts && !m.surface_triangles.empty() &&
+        std::any_of(sc.candidates.begin(), sc.candidates.end(),
+                    [](const detail::Candidate& c) { return detail::has_box_edges(*c.obj->getCollisionShape()); });
+    if (surface_edges && s.tri_edges.size() != m.surface_triangles.size())
+      detail::surface_edges(m, s.soft_edges, s.tri_edges, s.edge_begin, s.edges_at);
     if (cs.cull) {
       sc.half.resize(std::size_t(n));
       for (Index i = 0; i < n; ++i)
         sc.half[std::size_t(i)] = m.radius[i] + cs.thickness + cs.margin + dt * st.v[i].norm();
+      sc.widened = surface_edges;
+      if (sc.widened) {
+        sc.base_half = sc.half;
+        detail::widen_for_edges(m, st, dt, s.soft_edges, s.edge_reach, sc.half);
+      }
       detail::find_pairs(st.x, m.inv_mass, sc, set.workers);
     }
 
@@ -307,17 +324,10 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
     // first contact. The contacts, their order and the bodies' indices are
     // those of one thread whatever the pool
     // (WorldCulling.ThreadsGiveTheSameContactsBitForBit).
-    const bool triangles = !m.collision_triangles.empty();
     if (triangles && std::any_of(sc.candidates.begin(), sc.candidates.end(), [](const detail::Candidate& c) {
           return detail::may_have_features(*c.obj);
         }))
       triangle_bounds(s, dt);
-    // Without collision triangles, the surface triangles' edges meet the
-    // box edges (edge_contacts_of) at the culled particles.
-    const bool surface_edges =
-        !triangles && cs.edge_contacts && cs.surface_edge_contacts && !m.surface_triangles.empty();
-    if (surface_edges && s.tri_edges.size() != m.surface_triangles.size())
-      detail::surface_edges(m, s.soft_edges, s.tri_edges, s.edge_begin, s.edges_at);
     const std::size_t nc = sc.candidates.size();
     if (s.found.size() < nc) s.found.resize(nc);
     const int slots =

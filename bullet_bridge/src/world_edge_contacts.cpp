@@ -106,6 +106,46 @@ void surface_edges(const xpbd::Model& m, std::vector<std::array<xpbd::Index, 2>>
     for (const xpbd::Index p : edges[e]) edges_at[std::size_t(fill[std::size_t(p)]++)] = int(e);
 }
 
+bool has_box_edges(const btCollisionShape& shape) {
+  if (shape.isCompound()) {
+    const auto& c = static_cast<const btCompoundShape&>(shape);
+    for (int i = 0; i < c.getNumChildShapes(); ++i)
+      if (has_box_edges(*c.getChildShape(i))) return true;
+    return false;
+  }
+  return shape.getShapeType() == BOX_SHAPE_PROXYTYPE;
+}
+
+Box soft_edge_box(const xpbd::Model& m, const xpbd::State& st, xpbd::Index p0, xpbd::Index p1, Real dt,
+                  Real thickness, Real margin) {
+  const Real grow = std::max({m.radius[p0], m.radius[p1], Real(0)}) + thickness + margin;
+  const Vec3 e0 = st.x[p0] + dt * st.v[p0], e1 = st.x[p1] + dt * st.v[p1];
+  return {(st.x[p0].cwiseMin(e0).cwiseMin(st.x[p1]).cwiseMin(e1).array() - grow).matrix(),
+          (st.x[p0].cwiseMax(e0).cwiseMax(st.x[p1]).cwiseMax(e1).array() + grow).matrix()};
+}
+
+void widen_for_edges(const xpbd::Model& m, const xpbd::State& st, Real dt,
+                     const std::vector<std::array<xpbd::Index, 2>>& edges, std::vector<Real>& reach,
+                     std::vector<Real>& half) {
+  reach.assign(half.size(), Real(0));
+  // How far the far end (and its path, and its larger radius) reaches from x_i.
+  const auto far = [&](xpbd::Index i, xpbd::Index j) {
+    return (st.x[j] - st.x[i]).norm() + dt * st.v[j].norm() + std::max(m.radius[j] - m.radius[i], Real(0));
+  };
+  for (const auto& [a, b] : edges) {
+    // A NaN stays (the culling tests such a particle against every box).
+    const Real ra = far(a, b), rb = far(b, a);
+    Real& xa = reach[std::size_t(a)];
+    Real& xb = reach[std::size_t(b)];
+    if (!(xa >= ra)) xa = ra;
+    if (!(xb >= rb)) xb = rb;
+  }
+  // Round-off: the candidate boxes hold a slack of 4 kDegenerateRel
+  // relative to the coordinates (world_contacts.cpp); this adds one more
+  // relative to the reach.
+  for (std::size_t i = 0; i < half.size(); ++i) half[i] += reach[i] * (Real(1) + xpbd::kDegenerateRel);
+}
+
 }  // namespace detail
 
 void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, const Vec3& sys_lo, const Vec3& sys_hi,
@@ -155,20 +195,34 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
       }
       return false;
     };
-    next_stamp();
+    // The edges with a movable end whose box (soft_edge_box) meets the
+    // candidate's, none held, in ascending order: from the culled
+    // particles' edges (the culling's half sizes hold each particle's
+    // edges' boxes, detail::widen_for_edges), or from every edge. The
+    // same edges either way.
+    const auto take = [&](int e) {
+      const auto [p0, p1] = s.soft_edges[std::size_t(e)];
+      if (m.inv_mass[p0] == Real(0) && m.inv_mass[p1] == Real(0)) return;
+      const detail::Box eb = detail::soft_edge_box(m, st, p0, p1, dt, cs.thickness, cs.margin);
+      if ((eb.lo.array() > cand.box.hi.array()).any() || (eb.hi.array() < cand.box.lo.array()).any()) return;
+      if (has_attached && (held(p0) || held(p1))) return;
+      fs.near_edges.push_back(e);
+    };
     fs.near_edges.clear();
-    const Index count = cs.cull ? sc.pair_begin[k + 1] - sc.pair_begin[k] : m.num_particles();
-    for (Index j = 0; j < count; ++j) {
-      const Index i = cs.cull ? sc.particles[std::size_t(sc.pair_begin[k] + j)] : j;
-      if (m.inv_mass[i] == Real(0)) continue;  // never in a culled list
-      for (int q = s.edge_begin[std::size_t(i)]; q < s.edge_begin[std::size_t(i) + 1]; ++q) {
-        const int e = s.edges_at[std::size_t(q)];
-        if (fs.edge_stamp[std::size_t(e)] == fs.stamp) continue;
-        fs.edge_stamp[std::size_t(e)] = fs.stamp;
-        const auto [p0, p1] = s.soft_edges[std::size_t(e)];
-        if (has_attached && (held(p0) || held(p1))) continue;
-        fs.near_edges.push_back(e);
+    if (cs.cull) {
+      next_stamp();
+      for (Index j = sc.pair_begin[k]; j < sc.pair_begin[k + 1]; ++j) {
+        const Index i = sc.particles[std::size_t(j)];
+        for (int q = s.edge_begin[std::size_t(i)]; q < s.edge_begin[std::size_t(i) + 1]; ++q) {
+          const int e = s.edges_at[std::size_t(q)];
+          if (fs.edge_stamp[std::size_t(e)] == fs.stamp) continue;
+          fs.edge_stamp[std::size_t(e)] = fs.stamp;
+          take(e);
+        }
       }
+      std::sort(fs.near_edges.begin(), fs.near_edges.end());
+    } else {
+      for (std::size_t e = 0; e < s.soft_edges.size(); ++e) take(int(e));
     }
     if (fs.near_edges.empty()) return;
   } else if (use_bvh) {
@@ -236,11 +290,8 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
       for (const int e : fs.near_edges) {
         if (found == kEdgeContacts) break;
         const auto [p0, p1] = s.soft_edges[std::size_t(e)];
-        const Real grow = std::max({m.radius[p0], m.radius[p1], Real(0)}) + cs.thickness + cs.margin;
-        const Vec3 e0 = st.x[p0] + dt * st.v[p0], e1 = st.x[p1] + dt * st.v[p1];
-        const Vec3 elo = (st.x[p0].cwiseMin(e0).cwiseMin(st.x[p1]).cwiseMin(e1).array() - grow).matrix();
-        const Vec3 ehi = (st.x[p0].cwiseMax(e0).cwiseMax(st.x[p1]).cwiseMax(e1).array() + grow).matrix();
-        if ((lo.array() > ehi.array()).any() || (hi.array() < elo.array()).any()) continue;
+        const detail::Box eb = detail::soft_edge_box(m, st, p0, p1, dt, cs.thickness, cs.margin);
+        if ((lo.array() > eb.hi.array()).any() || (hi.array() < eb.lo.array()).any()) continue;
         test(e);
       }
       continue;

@@ -207,7 +207,7 @@ struct XpbdWorld::FeatureScratch {
   std::vector<std::array<Vec3, 3>> box_edges;  // a body's box edges: ends, outward bisector (body frame)
   std::vector<int> body_edges_tris, all_tris;  // the triangles a body's box edges test, ascending
   std::vector<unsigned> edge_stamp;            // per soft edge: the last rigid edge that tested it
-  std::vector<int> near_edges;                 // surface edges at the body's culled particles
+  std::vector<int> near_edges;                 // surface edges near the body, ascending
   unsigned stamp = 0;
 };
 
@@ -224,6 +224,26 @@ void find_soft_edges(const std::vector<std::array<xpbd::Index, 3>>& tris, std::v
 // once (world_edge_contacts.cpp).
 void surface_edges(const xpbd::Model& m, std::vector<std::array<xpbd::Index, 2>>& edges,
                    std::vector<std::array<int, 3>>& tri_edges, std::vector<int>& edge_begin, std::vector<int>& edges_at);
+
+// True if `shape` is a box or a compound holding one (the shapes whose
+// edges edge_contacts_of tests).
+bool has_box_edges(const btCollisionShape& shape);
+
+// The box of soft edge (p0, p1) over the step: both ends at the start and
+// at x + dt v, grown by the larger radius, the thickness and the margin.
+Box soft_edge_box(const xpbd::Model& m, const xpbd::State& st, xpbd::Index p0, xpbd::Index p1, Real dt,
+                  Real thickness, Real margin);
+
+// Widens the culling's half sizes (ContactScratch::half, r_i + thickness +
+// margin + dt |v_i|) so that each particle's cube holds the box
+// (soft_edge_box) of every soft edge at it: half_i += max over its edges
+// (i, j) of |x_j - x_i| + dt |v_j| + max(r_j - r_i, 0). Then a soft edge
+// whose box meets a candidate's box has both ends in the candidate's
+// culled particles (if movable), and edge_contacts_of finds from them the
+// same edges as from every particle. reach: scratch.
+void widen_for_edges(const xpbd::Model& m, const xpbd::State& st, Real dt,
+                     const std::vector<std::array<xpbd::Index, 2>>& edges, std::vector<Real>& reach,
+                     std::vector<Real>& half);
 
 // Calls f(k, slot) once for every k in [0, count): on the calling thread in
 // order without a pool (or with one thread, or one item), else on up to
@@ -284,6 +304,7 @@ struct XpbdWorld::System {
   std::vector<std::array<xpbd::Index, 2>> soft_edges;
   std::vector<std::array<int, 3>> tri_edges;
   std::vector<int> edge_begin, edges_at;
+  std::vector<Real> edge_reach;  // scratch of detail::widen_for_edges
   std::vector<BodyContactReport> report;     // contact_report(id): the last step's
   StepCallback callback;                     // set_step_callback(id)
   bool stepped = false;                      // stepped in the current internal step

@@ -123,6 +123,7 @@ struct Scene {
     SystemSettings set;
     set.iterations = 2;
     set.contacts.cull = cull;
+    set.contacts.surface_edge_contacts = true;  // the cloth's edges against the box edges too
     set.contacts.triangle_bvh_from = bvh_from;
     set.workers = pool;
     set.coloured = pool != nullptr;
@@ -178,11 +179,23 @@ void expect_same_contacts(const std::vector<xpbd::BodyContact>& a, const std::ve
   }
 }
 
+// The same for edge contacts (a box's edges against the soft edges).
+void expect_same_edge_contacts(const std::vector<xpbd::BodyEdgeContact>& a,
+                               const std::vector<xpbd::BodyEdgeContact>& b, const std::string& where) {
+  ASSERT_EQ(a.size(), b.size()) << where;
+  for (std::size_t c = 0; c < a.size(); ++c) {
+    const xpbd::BodyEdgeContact &p = a[c], &q = b[c];
+    ASSERT_TRUE(p.body == q.body && p.a == q.a && p.b == q.b && p.p == q.p && p.out == q.out &&
+                p.thickness == q.thickness && p.reach == q.reach && p.closing_speed == q.closing_speed)
+        << where << ", edge contact " << c;
+  }
+}
+
 TEST(WorldCulling, SameContactsAndTrajectoriesAsBruteForceOnEveryShapeKind) {
   Scene culled(true), brute(false);
   std::map<std::string, int> contacts_per_body;  // culled run, over all steps
   long queries_culled = 0, queries_brute = 0;
-  int shot_contacts = 0;
+  int shot_contacts = 0, edge_contacts = 0;
   const int steps = 60;  // 1 s
   for (int k = 0; k < steps; ++k) {
     culled.bw.step();
@@ -199,6 +212,11 @@ TEST(WorldCulling, SameContactsAndTrajectoriesAsBruteForceOnEveryShapeKind) {
       const xpbd::State& a = culled.xw->state(id);
       const xpbd::State& b = brute.xw->state(id);
       expect_same_contacts(a.contacts, b.contacts, where + ", system " + std::to_string(id.value));
+      // The cloth's surface edges against the box edges
+      // (ContactSettings::surface_edge_contacts): the culled particles'
+      // edges are those of every particle.
+      expect_same_edge_contacts(a.edge_contacts, b.edge_contacts, where + ", system " + std::to_string(id.value));
+      edge_contacts += static_cast<int>(a.edge_contacts.size());
       // The same contacts give bitwise the same step.
       ASSERT_EQ(a.x, b.x) << where;
       ASSERT_EQ(a.v, b.v) << where;
@@ -215,6 +233,7 @@ TEST(WorldCulling, SameContactsAndTrajectoriesAsBruteForceOnEveryShapeKind) {
   for (const auto& [name, b] : culled.bodies) EXPECT_GT(contacts_per_body[name], 0) << name;
   EXPECT_EQ(contacts_per_body["?"], 0);
   EXPECT_GT(shot_contacts, 0);
+  EXPECT_GT(edge_contacts, 0);
   EXPECT_LT(queries_culled, queries_brute / 2);
   std::printf("queries over %d steps: %ld culled, %ld brute force\n", steps, queries_culled, queries_brute);
 }
