@@ -162,7 +162,7 @@ inline constexpr Keys kTetBoxKeys{"nx", "ny", "nz", "origin", "size", "split", "
 inline constexpr Keys kObjKeys{"path", "triangulate", "kind", "scale", "offset", "mass", "radius", "edge_mat",
                     "bending", "bend_mat", "pressure", "volume_mat"};
 inline constexpr Keys kContactsKeys{"thickness", "margin", "static_friction", "dynamic_friction", "restitution",
-                         "compliance", "feature_spacing", "wedges"};
+                         "compliance", "feature_spacing", "wedges", "edge_contacts", "surface_edges"};
 inline constexpr Keys kBodyKeys{"name", "shape", "mass", "position", "orientation", "velocity", "angular_velocity",
                          "friction", "restitution", "linear_damping", "angular_damping", "kinematic"};
 inline constexpr Keys kSphereKeys{"radius"};

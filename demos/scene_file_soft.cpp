@@ -186,6 +186,8 @@ SoftContactSpec read_contacts(const Ctx& c, const json& v, const std::string& pa
   o.real("feature_spacing", s.feature_spacing);
   positive(c, s.feature_spacing, o.at("feature_spacing"));
   o.boolean("wedges", s.wedges);
+  o.boolean("edge_contacts", s.edge_contacts);
+  o.boolean("surface_edges", s.surface_edges);
   return s;
 }
 

@@ -220,7 +220,9 @@ json out_soft(const SoftSpec& soft) {
                    {"restitution", out_real(c.restitution)},
                    {"compliance", out_real(c.compliance)},
                    {"feature_spacing", out_real(c.feature_spacing)},
-                   {"wedges", c.wedges}};
+                   {"wedges", c.wedges},
+                   {"edge_contacts", c.edge_contacts},
+                   {"surface_edges", c.surface_edges}};
   return j;
 }
 

@@ -418,7 +418,9 @@ RunResult run_scene(const SceneSpec& spec, const ExpandedSoft& soft, const RunOp
                            {"restitution", double(c.restitution)},
                            {"compliance", double(c.compliance)},
                            {"feature_spacing", double(c.feature_spacing)},
-                           {"wedges", c.wedges}}},
+                           {"wedges", c.wedges},
+                           {"edge_contacts", c.edge_contacts},
+                           {"surface_edges", c.surface_edges}}},
                          {"attachments", spec.attachments.size()}};
   }
   r.projections_per_frame = sim->projections_per_frame();

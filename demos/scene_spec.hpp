@@ -87,6 +87,8 @@ struct SoftContactSpec {
   xpbd::Real compliance = 0;                     // m/N, >= 0
   xpbd::Real feature_spacing = xpbd::Real(0.01); // m, > 0: box-edge sample spacing vs triangles
   bool wedges = true;  // xpbd_bullet::ContactSettings::wedges (XPBD and PBD)
+  bool edge_contacts = true;  // xpbd_bullet::ContactSettings::edge_contacts (XPBD and PBD)
+  bool surface_edges = false;  // xpbd_bullet::ContactSettings::surface_edge_contacts (XPBD and PBD)
 };
 
 // An OBJ file (path relative to the scene file's directory) turned into a

@@ -96,6 +96,8 @@ class XpbdSim : public SoftSim {
     s.contacts.compliance = c.compliance;
     s.contacts.feature_spacing = c.feature_spacing;
     s.contacts.wedges = c.wedges;
+    s.contacts.edge_contacts = c.edge_contacts;
+    s.contacts.surface_edge_contacts = c.surface_edges;
     s.tolerance.strain = opt.tolerance;
     s.tolerance.penetration = opt.penetration_tolerance;
     s.tolerance.max_substeps = opt.max_substeps;

@@ -233,7 +233,10 @@ TEST(SceneFile, RoundTripExplicitParticlesAndEveryElementType) {
   s.soft.contacts.restitution = Real(0.3);
   s.soft.contacts.compliance = Real(1e-7);
   s.soft.contacts.feature_spacing = Real(0.02);
-  s.soft.contacts.wedges = false;  // not the default, so the round trip can fail
+  // Not the defaults, so the round trip can fail.
+  s.soft.contacts.wedges = false;
+  s.soft.contacts.edge_contacts = false;
+  s.soft.contacts.surface_edges = true;
   const SceneSpec back = round_trip(s);
 
   // The explicit arrays themselves (the model above holds them compiled).
