@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The bar-squeeze application (tests/integration/test_world_squeeze.cpp)
-# over wrinkle seeds 1-32 with 49 bodies at the defaults: one line per seed
+# The bar-squeeze application (tests/integration/squeeze_app.hpp, the
+# program tests/integration/squeeze_campaign.cpp) over wrinkle seeds 1-32 with 49 bodies at the defaults: one line per seed
 # (deepest particle centre inside a body, frames deeper than the contact
 # thickness, largest edge strain, sweeps per step, frames with an edge
 # stretched over 20 %, such edges over the frames and how many of them pass
@@ -16,7 +16,5 @@ if [ -z "${BUILD_DIR:-}" ]; then
   scripts/setup.sh double >/dev/null
 fi
 build="${BUILD_DIR:-build/double}"
-filter=""
-if [ "${1:-}" = "--surface-edges" ]; then filter="WithSurfaceEdges"; fi
-"$build/tests/xpbd_tests_integration" --gtest_also_run_disabled_tests \
-  --gtest_filter="DISABLED_SqueezeCampaign.WrinkleSeeds1To32${filter}" | grep '^seed'
+cmake --build "$build" --target xpbd_squeeze_campaign >/dev/null
+"$build/tests/xpbd_squeeze_campaign" "$@"

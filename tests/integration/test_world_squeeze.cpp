@@ -1,7 +1,8 @@
-// A small application as a user writes it, at the default settings: a
-// ground plane, a 2 kg bar with a 24 x 24 cloth of 0.4 kg hanging from it by
-// three attachments, and 0 or 49 random rigid bodies (spheres, boxes,
-// capsules, convex hulls) falling around it; 600 frames at 60 Hz. The bar
+// A small application as a user writes it, at the default settings
+// (squeeze_app.hpp): a ground plane, a 2 kg bar with a 24 x 24 cloth of
+// 0.4 kg hanging from it by three attachments, and 0 or 49 random rigid
+// bodies (spheres, boxes, capsules, convex hulls) falling around it; 600
+// frames at 60 Hz. The bar
 // and the cloth fall, the cloth piles up on the ground and the bar lands on
 // it: the light cloth is squeezed between a heavy body and the ground, and
 // under the falling bodies.
@@ -30,219 +31,15 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
-#include <random>
 #include <vector>
 
-#include "support.hpp"
-#include "xpbd_bullet/narrowphase.hpp"
+#include "squeeze_app.hpp"
 
 namespace {
 namespace XPBD_TEST_FILE_ID {  // one per test file in a unity batch (tests/CMakeLists.txt)
 
 using namespace xpbd_bullet::test;
-using xpbd_bullet::SystemSettings;
-using xpbd_bullet::XpbdWorld;
-
-constexpr int kFrames = 600;
-constexpr int kN = 24;                    // particles per side
-constexpr Real kClothMass = Real(0.4);    // kg
-constexpr Real kBarMass = 2;              // kg
-const Vec3 kBarHalf(0.6, 0.03, 0.03);     // m
-const Vec3 kBarStart(0, 1.6, 0);          // m
-
-struct Result {
-  Real deepest = 0;     // m, largest depth of a particle centre inside a body or below the ground
-  Real strain = 0;      // largest (|x_a - x_b| - rest) / rest over the cloth's distance edges
-  // Frames whose deepest particle centre is deeper than the thickness, and
-  // of those, the frames where that particle is also within 1 cm of a
-  // second body (squeezed between two).
-  int frames_deep = 0;
-  int frames_squeezed = 0;
-  std::vector<Vec3> bar;  // the bar's centre at every frame
-  bool finite = true;
-  // The health check found the energy out of bounds after the first frame,
-  // or a non-finite state, in some frame. (In the first frame the cloth's
-  // top row starts on the bar's face, inside the contact band, and is
-  // pushed out within the first substep: at 200 substeps that alone is
-  // over the check's budget, 0.40 J against 0.013 J for wrinkle seed 2.)
-  bool exploded = false;
-  double sweeps_per_step = 0;  // mean Gauss-Seidel sweeps per Bullet step
-  // Frames with an edge stretched over 20 %; such edges summed over the
-  // frames, and those of them whose midpoint is inside a body.
-  int frames_over = 0;
-  long edges_over = 0, edges_through = 0;
-};
-
-// `bodies` random rigid bodies around the bar, from a fixed seed, each
-// placed clear of the cloth, the bar and the bodies placed before it: its
-// bounding sphere (radius 1.8 `size` for every shape below) is drawn again
-// until it keeps 1 cm from the box around the bar and the hanging cloth and
-// from the others' spheres. Until 2026-11-28 the centres were drawn with no
-// such check, and bodies began through the cloth: in frame 0 a 0.19 kg
-// capsule lay across a cloth edge, whose particles the contacts held on its
-// two sides; the capsule fell carrying the edge, stretched by 1.3-1.6, for
-// 60 frames, the largest strain of the run (wrinkle seed 1). A body that
-// starts through the cloth is on neither side of it, and no contact can
-// tell which side it belongs on.
-void add_random_bodies(BulletWorld& bw, int bodies, unsigned seed = 12345) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(0, 1);
-  const Vec3 lo = kBarStart - kBarHalf - Vec3(0, 1, 0), hi = kBarStart + kBarHalf;  // bar and cloth
-  std::vector<std::pair<Vec3, Real>> placed;  // centre, bounding radius
-  const auto clear = [&](const Vec3& at, Real r) {
-    if ((at.cwiseMax(lo).cwiseMin(hi) - at).norm() < r + Real(0.01)) return false;
-    for (const auto& [c, rc] : placed)
-      if ((c - at).norm() < r + rc + Real(0.01)) return false;
-    return true;
-  };
-  for (int k = 0; k < bodies; ++k) {
-    const Real size = Real(0.05 + 0.1 * u(rng));
-    Vec3 at;
-    do at = Vec3(Real(-1 + 2 * u(rng)), Real(0.3 + 3 * u(rng)), Real(-1 + 2 * u(rng)));
-    while (!clear(at, Real(1.8) * size));
-    placed.emplace_back(at, Real(1.8) * size);
-    const Real mass = Real(0.1 + 1.9 * u(rng));
-    btCollisionShape* shape = nullptr;
-    switch (k % 4) {
-      case 0: shape = new btSphereShape(size); break;
-      case 1: shape = new btBoxShape(btVector3(size, Real(0.7) * size, Real(1.3) * size)); break;
-      case 2: shape = new btCapsuleShape(Real(0.5) * size, 2 * size); break;
-      default: {
-        auto* hull = new btConvexHullShape();
-        for (int v = 0; v < 8; ++v)
-          hull->addPoint(btVector3(Real(size * (2 * u(rng) - 1)), Real(size * (2 * u(rng) - 1)),
-                                   Real(size * (2 * u(rng) - 1))));
-        shape = hull;
-      }
-    }
-    btTransform pose = BulletWorld::at(at);
-    pose.setRotation(btQuaternion(btVector3(Real(u(rng)), Real(u(rng)), Real(u(rng) + 0.1)).normalized(),
-                                  Real(3 * u(rng))));
-    bw.add_body(shape, mass, pose);
-  }
-}
-
-// The 24 x 24 cloth with its top edge along the bar's bottom face, added to
-// xw with `set` and attached to the bar at three particles. Each particle
-// is set off its plane by up to kWrinkle (a fixed seed): a cloth is never
-// flat to the millimetre. An exactly flat one stays exactly in its plane
-// (every out-of-plane coordinate is 0 and stays 0 here), where its
-// distance edges make a rigid truss: the bar landed on it and stood on it,
-// 1 m above the ground, to the last frame, and never squeezed it.
-// triangles: the cloth's faces collide with the bar's corners and edges
-// (ClothGridDesc::collision_triangles). wrinkle_seed: the offsets' seed.
-constexpr Real kWrinkle = Real(0.001);  // m
-xpbd_bullet::SystemId add_cloth(XpbdWorld& xw, btRigidBody* bar, const SystemSettings& set,
-                                bool triangles = false, unsigned wrinkle_seed = 1) {
-  xpbd::SceneDesc scene;
-  xpbd::ClothGridDesc c;
-  c.nx = c.ny = kN;
-  c.size_u = c.size_v = 1;
-  c.mass = kClothMass;
-  c.origin = kBarStart + Vec3(-0.5, -kBarHalf.y(), 0);
-  c.collision_triangles = triangles;
-  const xpbd::ClothGrid grid = xpbd::add_cloth_grid(scene, c);
-  std::mt19937 rng(wrinkle_seed);
-  std::uniform_real_distribution<double> u(-1, 1);
-  for (int i = 0; i < kN * kN; ++i) scene.positions[std::size_t(grid.first + i)].z() += kWrinkle * Real(u(rng));
-  System sys = make_system(scene);
-  const auto id = xw.add_system(sys.model, sys.state, set);
-  for (int i : {0, kN / 2, kN - 1})
-    xw.attach(id, grid.first + i, bar, bt(sys.model->x0[std::size_t(grid.first + i)] - kBarStart));
-  return id;
-}
-
-// after_solve = false turns off what answers Bullet's own contacts moving
-// the bodies after XPBD ran (ContactSettings::settle and spacers).
-// substeps: 0 for the default; wrinkle_seed: add_cloth's; penetration:
-// the tolerance's contact target (SystemSettings::tolerance, m, 0 = off:
-// the fixed budget); wedges: ContactSettings::wedges; surface_edges:
-// ContactSettings::surface_edge_contacts.
-Result run(int bodies, bool cloth, int contact_sweeps = 0, bool after_solve = true, int substeps = 0,
-           unsigned wrinkle_seed = 1, int frames = kFrames,
-           double penetration = SystemSettings{}.tolerance.penetration, bool wedges = true,
-           bool surface_edges = false) {
-  BulletWorld bw;
-  bw.add_body(new btStaticPlaneShape(btVector3(0, 1, 0), 0), 0, BulletWorld::at(Vec3::Zero()));
-  btRigidBody* bar = bw.add_body(new btBoxShape(bt(kBarHalf)), kBarMass, BulletWorld::at(kBarStart));
-  add_random_bodies(bw, bodies);
-  XpbdWorld xw(bw.world());
-  SystemSettings set;  // the defaults, but for the arguments
-  set.contact_sweeps = contact_sweeps;
-  set.contacts.settle = set.contacts.spacers = after_solve;
-  set.contacts.wedges = wedges;
-  set.contacts.surface_edge_contacts = surface_edges;
-  if (substeps > 0) set.substeps = substeps;
-  set.tolerance.penetration = penetration;
-  xpbd_bullet::SystemId id;
-  if (cloth) id = add_cloth(xw, bar, set, false, wrinkle_seed);
-  Result r;
-  r.sweeps_per_step = 0;
-  std::vector<const btCollisionObject*> near;
-  for (int f = 0; f < frames; ++f) {
-    bw.step();
-    r.bar.push_back(vec(bar->getCenterOfMassPosition()));
-    if (!cloth) continue;
-    const xpbd::Health status = xw.health(id).status;
-    r.exploded = r.exploded || (f > 0 && status == xpbd::Health::exploded) || status == xpbd::Health::nonfinite;
-    const xpbd::State& s = xw.state(id);
-    const xpbd::Model& m = xw.model(id);
-    Vec3 lo = s.x[0], hi = s.x[0];
-    for (const Vec3& x : s.x) {
-      if (!x.allFinite()) {
-        r.finite = false;
-        return r;
-      }
-      lo = lo.cwiseMin(x);
-      hi = hi.cwiseMax(x);
-    }
-    xpbd_bullet::candidates(bw.world(), lo, hi, near);
-    // The strain; each edge over 20 % counted, and whether its midpoint is
-    // inside a body or below the ground (an edge through a body, which
-    // particle contacts alone cannot stop).
-    bool over = false;
-    for (const xpbd::Distance& d : m.get<xpbd::Distance>()) {
-      const Real e = ((s.x[d.p[0]] - s.x[d.p[1]]).norm() - d.rest) / d.rest;
-      r.strain = std::max(r.strain, e);
-      if (!(e > Real(0.2))) continue;
-      over = true;
-      ++r.edges_over;
-      const Vec3 mid = (s.x[d.p[0]] + s.x[d.p[1]]) / 2;
-      bool through = mid.y() < 0;
-      for (const btCollisionObject* o : near) {
-        xpbd_bullet::ParticleContact pc;
-        through = through || (xpbd_bullet::query_point(*o, mid, 0, pc) && pc.distance < 0);
-      }
-      r.edges_through += through;
-    }
-    r.frames_over += over;
-    Real deepest = 0;
-    std::size_t at = 0;
-    const btCollisionObject* in = nullptr;
-    for (const btCollisionObject* o : near)
-      for (std::size_t i = 0; i < s.x.size(); ++i) {
-        xpbd_bullet::ParticleContact pc;
-        if (xpbd_bullet::query_point(*o, s.x[i], 0, pc) && -pc.distance > deepest) {
-          deepest = -pc.distance;
-          at = i;
-          in = o;
-        }
-      }
-    r.deepest = std::max(r.deepest, deepest);
-    if (deepest > xpbd_bullet::ContactSettings{}.thickness) {
-      ++r.frames_deep;
-      for (const btCollisionObject* o : near) {
-        xpbd_bullet::ParticleContact pc;
-        if (o != in && xpbd_bullet::query_point(*o, s.x[at], Real(0.01), pc)) {
-          ++r.frames_squeezed;
-          break;
-        }
-      }
-    }
-  }
-  if (cloth) r.sweeps_per_step = double(xw.state(id).sweeps) / frames;
-  return r;
-}
+using namespace xpbd_bullet::test::squeeze;
 
 Real largest_distance(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
   Real d = 0;
@@ -317,29 +114,6 @@ TEST_P(SqueezeSeeds, NoParticleDeeperThanTheThickness) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Wrinkle, SqueezeSeeds, ::testing::Values(3u, 27u));
-
-// The campaign behind docs/squeeze.md's tables (scripts/squeeze_seeds.sh;
-// not run by the suite): wrinkle seeds 1-32, 49 bodies, the defaults (or
-// with ContactSettings::surface_edge_contacts), one line each.
-void campaign(bool surface_edges) {
-  for (unsigned seed = 1; seed <= 32; ++seed) {
-    const Result r = run(49, true, 0, true, 0, seed, kFrames, SystemSettings{}.tolerance.penetration, true,
-                         surface_edges);
-    // The bar's mean speed over the last 100 frames (from its centre's
-    // path): whether the pile has come to rest.
-    double speed = 0;
-    for (std::size_t f = r.bar.size() - 100; f < r.bar.size(); ++f)
-      speed += double((r.bar[f] - r.bar[f - 1]).norm()) / (double(kDt) * 100);
-    std::printf("seed %u: deepest %.4g mm, %d frames deep, strain %.3g, %.1f sweeps/step, finite %d exploded %d, "
-                "%d frames with an edge over 20 %%, %ld such edges, %ld of them through a body, bar speed over "
-                "the last 100 frames %.4f m/s\n",
-                seed, 1e3 * double(r.deepest), r.frames_deep, double(r.strain), r.sweeps_per_step, int(r.finite),
-                int(r.exploded), r.frames_over, r.edges_over, r.edges_through, speed);
-  }
-}
-
-TEST(DISABLED_SqueezeCampaign, WrinkleSeeds1To32) { campaign(false); }
-TEST(DISABLED_SqueezeCampaign, WrinkleSeeds1To32WithSurfaceEdges) { campaign(true); }
 
 // The same application without the random bodies, with extra sweeps where
 // the contacts need them (SystemSettings::contact_sweeps = 8, the default
