@@ -137,7 +137,9 @@ std::unique_ptr<btTriangleMesh> box_mesh(const Vec3& h) {
 // (its sharp edges and corners are the features: collect_mesh_features),
 // not a btBoxShape. rise > 0 (with mesh): the mesh is a kinematic body,
 // still for the first second, then moved up at `rise` m/s for one second,
-// lifting the cloth that rests on it, then still again.
+// lifting the cloth that rests on it, then still again. surface_edges:
+// ContactSettings::surface_edge_contacts (off here unless asked for: the
+// runs without triangles are the control, particle contacts alone).
 DrapeRun drape(Feature f, bool triangles, Real seconds, bool mesh = false, Real rise = 0, bool surface_edges = false) {
   std::unique_ptr<btTriangleMesh> box_triangles;  // outlives bw, whose shape uses it
   BulletWorld bw;

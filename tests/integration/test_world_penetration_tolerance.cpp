@@ -49,7 +49,7 @@ struct Outcome {
 // about (1, 0, 1) and dropped 0.2 m higher, so that it lands on an edge.
 // surface_edges: ContactSettings::surface_edge_contacts.
 Outcome drop(double mass, double tolerance, int max_substeps = 200, bool wedges = false, double tilt = 0,
-             bool surface_edges = false) {
+             bool surface_edges = xpbd_bullet::ContactSettings{}.surface_edge_contacts) {
   BulletWorld bw;
   bw.add_body(new btStaticPlaneShape(btVector3(0, 1, 0), 0), 0, BulletWorld::at(Vec3::Zero()));
   const Real t = xpbd_bullet::ContactSettings{}.thickness;
