@@ -73,9 +73,9 @@ struct ContactSettings {
   // 1000 kg box landing on its edge on a cloth on the ground stretched it
   // by 0.04 and 0.06 (tilted 0.3 and 0.6 rad) with it, 0.07 and 0.15
   // without. Off by default: in float, 3 of the same 32 runs threw the bar
-  // off at up to 16 m/s and stretched the cloth by 21-37 (none without
-  // it), and a box resting under a cloth at 100 substeps sank 1.5 mm in
-  // one step (docs/squeeze.md, "Not on by default yet").
+  // off (16 m/s in the one traced) and stretched the cloth by 21-37 (none
+  // without it), and a box resting under a cloth at 100 substeps sank
+  // 1.5 mm in one step (docs/squeeze.md, "Not on by default yet").
   bool surface_edge_contacts = false;
   // From this many collision_triangles on (>= 0), the rigid features are
   // matched with the triangles through a bounding volume hierarchy of the
