@@ -19,12 +19,17 @@ namespace xpbd_bullet {
 
 namespace {
 
-// At most this many contacts per box edge and step (the first found): a
-// box edge across a cloth meets a few of its edges per cloth row; many more
-// come from a thickness far beyond the cloth's edges.
+// At most this many contacts per box edge and step (the first found), or
+// kEdgePerPiece per feature_spacing of its length if that is more: a box
+// edge across a cloth meets two or three of its edges per cloth row, and
+// feature_spacing is below the cloth's edge length; many more come from a
+// thickness far beyond the cloth's edges. The edge contacts are all that
+// holds a cloth along a box edge (its feature points are its two corners),
+// so a long edge under a fine cloth must not run out of them.
 constexpr int kEdgeContacts = 64;
-// Edges closer to parallel than this (sine) are left to the feature points
-// along the box edge, as in the solve (rigid_edges.cpp).
+constexpr int kEdgePerPiece = 4;
+// Edges closer to parallel than this (sine) are left to the soft edge's
+// particle contacts, as in the solve (rigid_edges.cpp).
 constexpr Real kParallelSin = Real(0.02);
 
 // The soft edge's side of a box edge is its outside: the normal of the
@@ -245,6 +250,11 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
     const Vec3 lo = (A.cwiseMin(B).array() - travel).matrix(), hi = (A.cwiseMax(B).array() + travel).matrix();
     if ((lo.array() > sys_hi.array()).any() || (hi.array() < sys_lo.array()).any()) continue;  // away from the system
     int found = 0;
+    // Clamped before the cast: a huge edge (or a NaN) must not overflow it.
+    const Real pieces = std::ceil((b - a).norm() / cs.feature_spacing);
+    const int cap = pieces > Real(kEdgeContacts / kEdgePerPiece)
+                        ? (pieces < Real(1 << 16) ? kEdgePerPiece * static_cast<int>(pieces) : kEdgePerPiece << 16)
+                        : kEdgeContacts;
     // The pair (box edge, soft edge e): a contact if the two lines' closest
     // points lie on both edges, near enough, on a side that leans outwards.
     const auto test = [&](const int e) {
@@ -271,7 +281,7 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
       // out over the edge from deep in (the particle contacts answer).
       const Real out_dist = lean > Real(0) ? dist : -dist;
       if (!(out_dist <= thick + cs.margin + move) || !(out_dist >= -thick)) return;
-      if (++found == kEdgeContacts) ++out.capped;
+      if (++found == cap) ++out.capped;
       xpbd::BodyEdgeContact c;  // body: set when joined (step_system)
       c.a = a;
       c.b = b;
@@ -288,7 +298,7 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
       // The soft edge's box over the step, grown by its thickness and
       // margin, against the box edge's.
       for (const int e : fs.near_edges) {
-        if (found == kEdgeContacts) break;
+        if (found == cap) break;
         const auto [p0, p1] = s.soft_edges[std::size_t(e)];
         const detail::Box eb = detail::soft_edge_box(m, st, p0, p1, dt, cs.thickness, cs.margin);
         if ((lo.array() > eb.hi.array()).any() || (hi.array() < eb.lo.array()).any()) continue;
@@ -308,7 +318,7 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
       if ((lo.array() > tri_hi_[std::size_t(t)].array()).any() || (hi.array() < tri_lo_[std::size_t(t)].array()).any())
         continue;
       for (const int e : s.tri_edges[std::size_t(t)]) {
-        if (fs.edge_stamp[std::size_t(e)] == fs.stamp || found == kEdgeContacts) continue;
+        if (fs.edge_stamp[std::size_t(e)] == fs.stamp || found == cap) continue;
         fs.edge_stamp[std::size_t(e)] = fs.stamp;
         test(e);
       }

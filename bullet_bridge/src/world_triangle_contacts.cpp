@@ -240,7 +240,10 @@ void XpbdWorld::triangle_contacts_of(const System& s, std::size_t k, btScalar dt
   centres.clear();
   fs.body_tris.clear();  // read by edge_contacts_of after this call
   const btCollisionShape& shape = *obj->getCollisionShape();
-  detail::collect_features(shape, btTransform::getIdentity(), cs.feature_spacing, features, true, &centres);
+  // A box's edges are held by the edge contacts when they are on
+  // (edge_contacts_of): its feature points are then its corners alone.
+  detail::collect_features(shape, btTransform::getIdentity(), cs.feature_spacing, features, !cs.edge_contacts,
+                           &centres);
   const Shadow& sh = shadows_[std::size_t(cand.shadow)];
   const bool mesh = features.empty() && obj->isStaticOrKinematicObject() && is_triangle_mesh(shape);
   if (mesh) {

@@ -5,8 +5,9 @@
 //
 // Scene, per cloth size n x n (the arguments; by default 4 .. 128): a 2 m x 2 m cloth (1 kg, the
 // compliances of bench_contacts' cloth) with collision triangles, dropped
-// from 0.35 m onto 50 static boxes (half extent 6 cm: 8 corners and points
-// along the edges 1 cm apart, 140 features each) on the black squares of a
+// from 0.35 m onto 50 static boxes (half extent 6 cm: 8 corners as
+// features, and 12 edges against the cloth's edges; docs/edge-contacts.md)
+// on the black squares of a
 // 10 x 10 grid 0.2 m apart, at 60 Hz with 10 substeps x 1 iteration. After
 // 45 steps it lies on them; that state is the snapshot every timed call
 // starts from. Per size and mode (loop, hierarchy), one bridge step from the

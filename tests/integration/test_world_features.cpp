@@ -91,6 +91,7 @@ struct DrapeRun {
   bool always_covered = true;  // every feature point had a triangle over it at every step
   Real lowest = 1;           // m, lowest particle centre over the run (floor at 0)
   int max_triangle_contacts = 0;  // largest number of feature-triangle contacts in one step
+  int max_edge_contacts = 0;      // largest number of box edge - soft edge contacts in one step
 };
 
 // Signed distance (m) of q from the plane of the nearest triangle whose
@@ -140,7 +141,8 @@ std::unique_ptr<btTriangleMesh> box_mesh(const Vec3& h) {
 // lifting the cloth that rests on it, then still again. surface_edges:
 // ContactSettings::surface_edge_contacts (off here unless asked for: the
 // runs without triangles are the control, particle contacts alone).
-DrapeRun drape(Feature f, bool triangles, Real seconds, bool mesh = false, Real rise = 0, bool surface_edges = false) {
+DrapeRun drape(Feature f, bool triangles, Real seconds, bool mesh = false, Real rise = 0, bool surface_edges = false,
+               int cloth_n = kClothN) {
   std::unique_ptr<btTriangleMesh> box_triangles;  // outlives bw, whose shape uses it
   BulletWorld bw;
   add_floor(bw);
@@ -193,10 +195,10 @@ DrapeRun drape(Feature f, bool triangles, Real seconds, bool mesh = false, Real 
   // Corner: shifted so that the corner lies under the centroid of triangle
   // ((i,j), (i+1,j), (i+1,j+1)), which is (s/6, -s/6) in (x, z) from its
   // quad's centre (s = spacing; u = x, v = z).
-  const Real s = kClothSize / Real(kClothN - 1);
+  const Real s = kClothSize / Real(cloth_n - 1);
   xpbd::SceneDesc scene;
   xpbd::ClothGridDesc d;
-  d.nx = d.ny = kClothN;
+  d.nx = d.ny = cloth_n;
   d.size_u = d.size_v = kClothSize;
   d.u = Vec3::UnitX();
   d.v = Vec3::UnitZ();
@@ -231,6 +233,7 @@ DrapeRun drape(Feature f, bool triangles, Real seconds, bool mesh = false, Real 
     bw.step();
     const xpbd::State& st = xw.state(id);
     r.max_triangle_contacts = std::max(r.max_triangle_contacts, xw.last_stats().triangle_contacts);
+    r.max_edge_contacts = std::max(r.max_edge_contacts, xw.last_stats().edge_contacts);
     r.end_max_d = -1;
     r.end_min_d = 1;
     for (const Vec3& q0 : features) {
@@ -281,7 +284,14 @@ TEST_P(ClothOnFeature, TriangleContactsKeepTheFeatureUnderTheCloth) {
   EXPECT_NEAR(on.end_min_d, -kThick, Real(1e-3));
   // ... and on the floor, not through it.
   EXPECT_GT(on.lowest, Real(0));
-  EXPECT_GT(on.max_triangle_contacts, 0);
+  // What holds it: a box's ridge, its edge contacts (a box's feature
+  // points are its corners alone with edge contacts on, and the ridge's
+  // corners lie beyond the cloth); a mesh's ridge and a corner, the
+  // feature-triangle contacts.
+  if (f == Feature::edge && !mesh)
+    EXPECT_GT(on.max_edge_contacts, 0);
+  else
+    EXPECT_GT(on.max_triangle_contacts, 0);
 
   // Control: with particle contacts only, the feature pierces the cloth.
   // For the ridge the estimate above is 0.043 m; the corner's nearest
@@ -309,6 +319,28 @@ TEST(ClothOnRidge, SurfaceEdgeContactsKeepTheRidgeUnderAClothWithoutTriangles) {
               "lowest particle %.4g m\n",
               on.max_d, kThick, on.end_min_d, on.end_max_d, on.lowest);
   ASSERT_TRUE(on.always_covered) << "the cloth left the ridge";
+  EXPECT_LT(on.max_d, Real(0));
+  EXPECT_NEAR(on.end_max_d, -kThick, Real(1e-3));
+  EXPECT_NEAR(on.end_min_d, -kThick, Real(1e-3));
+  EXPECT_GT(on.lowest, Real(0));
+}
+
+// A box's ridge is held by its edge contacts alone (its feature points are
+// its corners, which lie beyond the cloth). Under a finer cloth (40 x 40,
+// 2.3 cm between particles) the 1.2 m ridge crosses a cloth edge and a
+// diagonal in each of the 39 rows: more than the 64 contacts a box edge got
+// before its feature points along it were dropped. The cap now grows with
+// the edge's length (4 per feature_spacing, 480 here), and the whole ridge
+// stays under the cloth as under the coarse one. With the cap at 64 the
+// last rows' crossings get no contact and the ridge goes through there.
+TEST(ClothOnRidge, EdgeContactsHoldALongRidgeUnderAFineCloth) {
+  const DrapeRun on = drape(Feature::edge, true, 2, false, 0, false, 40);
+  std::printf("edge, 40 x 40 cloth: max d %.4g m (thickness %.3g m), at the end d in [%.4g, %.4g] m, "
+              "lowest particle %.4g m, up to %d edge contacts, %d feature-triangle contacts\n",
+              on.max_d, kThick, on.end_min_d, on.end_max_d, on.lowest, on.max_edge_contacts,
+              on.max_triangle_contacts);
+  ASSERT_TRUE(on.always_covered) << "the cloth left the ridge";
+  EXPECT_GT(on.max_edge_contacts, 64);
   EXPECT_LT(on.max_d, Real(0));
   EXPECT_NEAR(on.end_max_d, -kThick, Real(1e-3));
   EXPECT_NEAR(on.end_min_d, -kThick, Real(1e-3));

@@ -110,7 +110,7 @@ TEST(RigidEdges, NoPushPastAnEndOutsideTheThicknessOrBeyondTheReach) {
 }
 
 // Parallel edges have no normal: the soft edge along x over the rigid one
-// is left alone (the feature points along the rigid edge answer there).
+// is left alone (its particles' own contacts answer there).
 TEST(RigidEdges, ParallelEdgesAreLeftAlone) {
   EdgeCase s = make(Real(0.002), Real(0.2), -1);
   s.state.x[1] = Vec3(Real(0.6), Real(0.002), Real(-0.2));

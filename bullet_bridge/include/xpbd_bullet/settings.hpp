@@ -35,12 +35,14 @@ struct ContactSettings {
   // Restitution of the soft material, combined with the body's by product.
   xpbd::Real restitution = 0;
   xpbd::Real compliance = 0;  // m/N
-  // Rigid features against the model's collision_triangles: box corners and
-  // points along box edges at most this far apart (m, > 0), hull vertices,
-  // and on static triangle meshes (and heightfields) the corners of their
-  // sharp edges (faces more than about a degree from flat) and points along
-  // those edges, this far apart, among the triangles near the system.
-  // Choose it below the soft mesh's edge length.
+  // Rigid features against the model's collision_triangles: box corners
+  // (and, only with edge_contacts off, points along box edges at most this
+  // far apart, m, > 0), hull vertices, and on static triangle meshes (and
+  // heightfields) the corners of their sharp edges (faces more than about a
+  // degree from flat) and points along those edges, this far apart, among
+  // the triangles near the system. Choose it below the soft mesh's edge
+  // length. With edge_contacts on, a box edge gets up to 4 edge contacts
+  // per spacing of its length (at least 64).
   xpbd::Real feature_spacing = xpbd::Real(0.01);
   // Continuous collision of fast rigid features against the
   // collision_triangles: a feature that can move farther than the
@@ -53,8 +55,15 @@ struct ContactSettings {
   bool sweep_features = true;
   // The edges of the collision_triangles against the edges of box shapes
   // (xpbd::BodyEdgeContact): a cloth folded tight over a box's edge has no
-  // face over the edge's feature points, and its edge along the fold went
-  // through the box (docs/feature-contacts.md, "Edge against edge").
+  // face over points along the edge, and its edge along the fold went
+  // through the box (docs/edge-contacts.md). They
+  // hold a cloth along a box's whole edge (a triangle's plane is linear
+  // along the edge, so one held the thickness away where the box edge
+  // crosses its edges and at the box's corners is held between them), so
+  // with them on a box's feature points are its corners alone: a 64 x 64
+  // cloth on 50 boxes has 291 feature-triangle contacts per step instead of
+  // 3,717, and its contact search takes about half the time
+  // (bench_triangles).
   // With Coulomb friction (static_friction, dynamic_friction times the
   // body's getFriction(), as the particle contacts).
   bool edge_contacts = true;

@@ -111,14 +111,14 @@ struct BodyTriangleContact {
 
 // A rigid body's edge (a box's: ends a, b in the body frame) against a
 // soft edge (particles p[0], p[1]: an edge of the collision triangles),
-// where a cloth folded tight over the body's edge has no face for the
-// edge's feature points to meet. With e_r = b - a, e_s = x1 - x0 (world)
+// where a cloth folded tight over the body's edge has no face over the
+// edge to meet. With e_r = b - a, e_s = x1 - x0 (world)
 // and u, t the parameters of the two lines' closest points:
 //   C = n.(x_s(t) - x_r(u)) - thickness >= 0,
 //   n = +-e_r x e_s / |e_r x e_s|, the sign that leans towards `out`,
 // out: the direction from the rigid edge the soft edge belongs on (the
 // Bullet bridge takes the outward bisector of the box edge's two faces,
-// docs/feature-contacts.md, "Edge against edge"). The sign is taken again
+// docs/edge-contacts.md). The sign is taken again
 // at every evaluation: e_r x e_s turns over as the two edges pass parallel
 // (a soft edge lying across a spinning blade's edge does so every half
 // turn), and a sign kept from the start of the step then pushed the soft
