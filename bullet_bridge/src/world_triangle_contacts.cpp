@@ -241,7 +241,8 @@ void XpbdWorld::triangle_contacts_of(const System& s, std::size_t k, btScalar dt
   fs.body_tris.clear();  // read by edge_contacts_of after this call
   const btCollisionShape& shape = *obj->getCollisionShape();
   // A box's edges are held by the edge contacts when they are on
-  // (edge_contacts_of): its feature points are then its corners alone.
+  // (edge_contacts_of): its feature points are then its corners alone,
+  // unless the body is fast (below).
   detail::collect_features(shape, btTransform::getIdentity(), cs.feature_spacing, features, !cs.edge_contacts,
                            &centres);
   const Shadow& sh = shadows_[std::size_t(cand.shadow)];
@@ -293,7 +294,18 @@ void XpbdWorld::triangle_contacts_of(const System& s, std::size_t k, btScalar dt
   const int pieces = want >= Real(1) ? (want < Real(kSweepPieces) ? static_cast<int>(want) : kSweepPieces) : 1;
   std::vector<btTransform>& path_tf = fs.path_tf;
   path_tf.clear();
-  if (dt * (vb.norm() + ab + wb * r_max) > fast_from && cs.sweep_features) {
+  const bool fast = dt * (vb.norm() + ab + wb * r_max) > fast_from;
+  if (fast && cs.edge_contacts && !mesh) {
+    // A fast body's box edges get their points along them back: the edge
+    // contacts are found at the step's start only, and those points are
+    // swept along the path (a spinning blade), or found within their
+    // travel. r_max stays: a box's farthest point from the body's origin
+    // is a corner.
+    features.clear();
+    centres.clear();
+    detail::collect_features(shape, btTransform::getIdentity(), cs.feature_spacing, features, true, &centres);
+  }
+  if (fast && cs.sweep_features) {
     const btVector3 v_mean = to_bt(vb + Real(0.5) * dt * sh.accel), w_mean = to_bt(sh.w + Real(0.5) * dt * sh.ang_accel);
     for (int p = 0; p <= pieces; ++p) {
       btTransform at;
