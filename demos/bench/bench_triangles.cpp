@@ -17,7 +17,8 @@
 // triangle contacts) is kept; the cloth's own step (xpbd::step from the
 // snapshot, no bodies, no contacts) is timed the same way. Printed: medians
 // in ms, and each contact time over the cloth's step measured in the same
-// run. Before timing, both modes must give the same triangle contacts, or
+// run; last, the hierarchy's whole bridge step (its contacts and the XPBD
+// solve with them, wall clock). Before timing, both modes must give the same triangle contacts, or
 // the program exits with status 1.
 //
 //   cmake --build build/double --target bench_triangles && build/double/demos/bench/bench_triangles [n ...]
@@ -119,13 +120,17 @@ struct Scene {
   }
 
   // One bridge step from the snapshot; returns the contact generation time (s).
-  // threaded: on the pool.
-  double bridge_step(bool bvh, std::vector<BodyTriangleContact>* contacts = nullptr, bool threaded = false) {
+  // threaded: on the pool. whole: if given, gets the whole step's time (s):
+  // the contacts and the XPBD solve with them.
+  double bridge_step(bool bvh, std::vector<BodyTriangleContact>* contacts = nullptr, bool threaded = false,
+                     double* whole = nullptr) {
     xw->set_settings(id, settings(bvh ? 0 : std::numeric_limits<int>::max(), threaded ? pool.get() : nullptr));
     xw->state(id) = snapshot;
+    const auto t0 = std::chrono::steady_clock::now();
     xw->pre_solve(kDt);
     if (contacts) *contacts = xw->state(id).triangle_contacts;
     xw->updateAction(&world, kDt);
+    if (whole) *whole = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const double s = xw->last_stats().contact_seconds;
     xw->state(id) = snapshot;
     return s;
@@ -198,12 +203,12 @@ int main(int argc, char** argv) {
     sizes.push_back(n);
   }
   std::printf("| cloth | triangles | triangle contacts | cloth step (ms) | contacts, loop (ms) | contacts, hierarchy (ms) "
-              "| loop / cloth step | hierarchy / cloth step | loop / hierarchy |");
+              "| loop / cloth step | hierarchy / cloth step | loop / hierarchy | bridge step, hierarchy (ms) |");
   if (threads > 1)
     std::printf(" hierarchy, %d threads (ms) | cloth step, coloured, %d threads (ms) | hierarchy / its %d threads "
                 "| hierarchy, %d threads / cloth step | the same / coloured step, %d threads |",
                 threads, threads, threads, threads, threads);
-  std::printf("\n|---|---|---|---|---|---|---|---|---|%s\n", threads > 1 ? "---|---|---|---|---|" : "");
+  std::printf("\n|---|---|---|---|---|---|---|---|---|---|%s\n", threads > 1 ? "---|---|---|---|---|" : "");
   for (const int n : sizes) {
     Scene s(n, threads);
     std::vector<BodyTriangleContact> a, b, c;
@@ -215,10 +220,12 @@ int main(int argc, char** argv) {
                    n, threads > 1 ? " (or the threads' from one thread's)" : "");
       return 1;
     }
-    std::vector<double> loop, bvh, cloth, bvh_t, cloth_t;
+    std::vector<double> loop, bvh, cloth, bvh_t, cloth_t, whole;
     for (int r = 0; r < kRepeats; ++r) {  // interleaved, so that load hits all of them alike
       loop.push_back(s.bridge_step(false));
-      bvh.push_back(s.bridge_step(true));
+      double w = 0;
+      bvh.push_back(s.bridge_step(true, nullptr, false, &w));
+      whole.push_back(w);
       cloth.push_back(s.cloth_step());
       if (threads > 1) {
         bvh_t.push_back(s.bridge_step(true, nullptr, true));
@@ -226,8 +233,8 @@ int main(int argc, char** argv) {
       }
     }
     const double l = median(loop) * 1e3, h = median(bvh) * 1e3, cs = median(cloth) * 1e3;
-    std::printf("| %d x %d | %d | %zu | %.3f | %.3f | %.3f | %.2f | %.2f | %.1f |", n, n, s.triangles, a.size(), cs, l,
-                h, l / cs, h / cs, l / h);
+    std::printf("| %d x %d | %d | %zu | %.3f | %.3f | %.3f | %.2f | %.2f | %.1f | %.3f |", n, n, s.triangles, a.size(),
+                cs, l, h, l / cs, h / cs, l / h, median(whole) * 1e3);
     if (threads > 1) {
       const double ht = median(bvh_t) * 1e3, ct = median(cloth_t) * 1e3;
       std::printf(" %.3f | %.3f | %.2f | %.2f | %.2f |", ht, ct, h / ht, ht / cs, ht / ct);
