@@ -87,6 +87,55 @@ TEST(Workers, ExceptionIsRethrownAndThePoolStillWorks) {
   EXPECT_EQ(ran.load(), 8);
 }
 
+// run_phases: every task of every phase once, and no task of a phase
+// before every task of the phase before has returned (each task of phase
+// p reads how many of phase p - 1 have finished, after a short spin that
+// gives another thread time to start the next phase early). Phases of 0
+// and 1 tasks in between, and a throwing task: on a pool rethrown once
+// every task has run, and the pool works on.
+TEST(Workers, PhasesRunInOrderEachTaskOnce) {
+  for (int threads : {1, 2, 4}) {
+    Workers w(threads);
+    const std::vector<int> tasks = {3, 0, 1, 5, 2, 7, 1, 4};
+    std::vector<std::atomic<int>> finished(tasks.size());
+    std::vector<std::atomic<int>> hits(tasks.size() * 8);
+    std::atomic<int> early{0};
+    for (int round = 0; round < 20; ++round) {
+      for (auto& f : finished) f.store(0);
+      w.run_phases(tasks, [&](int p, int t) {
+        hits[std::size_t(p) * 8 + std::size_t(t)].fetch_add(1);
+        int before = p > 0 ? finished[std::size_t(p - 1)].load() : 0;
+        // The phase before the last non-empty one: 0 tasks counts as done.
+        int q = p - 1;
+        while (q > 0 && tasks[std::size_t(q)] == 0) --q;
+        if (q >= 0 && q != p - 1) before = finished[std::size_t(q)].load();
+        if (q >= 0 && before != tasks[std::size_t(q)]) early.fetch_add(1);
+        const auto until = std::chrono::steady_clock::now() + std::chrono::microseconds(20);
+        while (std::chrono::steady_clock::now() < until) {
+        }
+        finished[std::size_t(p)].fetch_add(1);
+      });
+    }
+    EXPECT_EQ(early.load(), 0) << threads << " threads";
+    for (std::size_t p = 0; p < tasks.size(); ++p)
+      for (int t = 0; t < 8; ++t)
+        EXPECT_EQ(hits[p * 8 + std::size_t(t)].load(), t < tasks[p] ? 20 : 0) << threads << " threads, phase " << p;
+    std::atomic<int> ran{0};
+    EXPECT_THROW(w.run_phases(tasks,
+                              [&](int p, int t) {
+                                ran.fetch_add(1);
+                                if (p == 3 && t == 1) throw std::runtime_error("task");
+                              }),
+                 std::runtime_error);
+    // On one thread the phases run in a plain loop, which stops at the
+    // throw (6 tasks ran), as run() does.
+    EXPECT_EQ(ran.load(), threads == 1 ? 6 : 23);
+    std::atomic<int> after{0};
+    w.run_phases({2, 2}, [&](int, int) { after.fetch_add(1); });
+    EXPECT_EQ(after.load(), 4);
+  }
+}
+
 TEST(Workers, BadThreadCountAndMissingColoursAreNamed) {
   try {
     Workers w(0);

@@ -63,9 +63,10 @@ void dihedral_sweep(const Model& m, State& s, const SolveContext& sc, bool dampe
   a.x = s.stream_x.data();
   a.x_prev = damped ? s.stream_x_prev.data() : nullptr;
   const Kernel k = kernel(simd);
-  sweep_colours(m.dihedral_colours, sc.reverse, workers,
-                [&](std::size_t lo, std::size_t hi) { k(a, lo, hi, damped, first); });
-  unpack_records(s, workers);
+  // The colours, then the records back into s.x.
+  sweep_colours_then(
+      m.dihedral_colours, sc.reverse, workers, [&](std::size_t lo, std::size_t hi) { k(a, lo, hi, damped, first); },
+      kMinPerTask, s.x.size(), [&](std::size_t lo, std::size_t hi) { unpack_range(s, lo, hi); });
 }
 
 void dihedral_end_step(const Model& m, State& s) {

@@ -88,11 +88,7 @@ void pack_records(const Model& m, State& s, bool damped, Workers* workers) {
   }, kMinParticlesPerTask);
 }
 
-void unpack_records(State& s, Workers* workers) {
-  const Real* const px = s.stream_x.data();
-  Vec3* const x = s.x.data();
-  split(workers, s.x.size(), 1, [=](std::size_t lo, std::size_t hi) { unpack(px, x, lo, hi); }, kMinParticlesPerTask);
-}
+void unpack_range(State& s, std::size_t lo, std::size_t hi) { unpack(s.stream_x.data(), s.x.data(), lo, hi); }
 
 void pair_begin_step(const Model& m, State& s, const PairStream& p, bool damped, Real h, Workers* workers) {
   const std::size_t e = p.elements.size();
@@ -136,10 +132,10 @@ void pair_sweep(const Model& m, State& s, const PairStream& p, const SolveContex
   a.x = s.stream_x.data();
   a.x_prev = damped ? s.stream_x_prev.data() : nullptr;
   const PairKernel k = pick_kernel(simd_level(simd), p.scalar, p.avx2, p.avx512);
-  sweep_colours(
+  // The colours, then the records back into s.x.
+  sweep_colours_then(
       p.colours, sc.reverse, workers, [&](std::size_t lo, std::size_t hi) { k(a, lo, hi, damped, first); },
-      p.min_per_task);
-  unpack_records(s, workers);
+      p.min_per_task, s.x.size(), [&](std::size_t lo, std::size_t hi) { unpack_range(s, lo, hi); });
 }
 
 namespace {

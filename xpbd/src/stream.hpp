@@ -29,36 +29,79 @@ constexpr std::size_t kMinPerTask = 256;
 // to pay").
 constexpr std::size_t kMinParticlesPerTask = 1024;
 
+// How many pieces split() cuts n elements into, and where piece t of them
+// begins (piece `tasks` is the end, n).
+inline int split_tasks(const Workers* w, std::size_t n, std::size_t min_per_task) {
+  if (w == nullptr || n < 2 * min_per_task) return 1;
+  return std::min(w->threads(), static_cast<int>(n / min_per_task));
+}
+inline std::size_t split_bound(std::size_t n, int tasks, int t, std::size_t align) {
+  if (t == tasks) return n;
+  const std::size_t b = n * static_cast<std::size_t>(t) / static_cast<std::size_t>(tasks);
+  return b - b % align;
+}
+
 template <class F>
 void split(Workers* w, std::size_t n, std::size_t align, F&& f, std::size_t min_per_task = kMinPerTask) {
-  int tasks = 1;
-  if (w != nullptr && n >= 2 * min_per_task) tasks = std::min(w->threads(), static_cast<int>(n / min_per_task));
+  const int tasks = split_tasks(w, n, min_per_task);
   if (tasks <= 1) {
     f(std::size_t(0), n);
     return;
   }
-  auto bound = [&](int t) {
-    if (t == tasks) return n;
-    const std::size_t b = n * static_cast<std::size_t>(t) / static_cast<std::size_t>(tasks);
-    return b - b % align;
-  };
-  auto task = [&](int t) { f(bound(t), bound(t + 1)); };
+  auto task = [&](int t) { f(split_bound(n, tasks, t, align), split_bound(n, tasks, t + 1, align)); };
   w->run(tasks, std::ref(task));  // std::ref: no allocation
 }
 
 // Calls kernel(lo, hi) over each colour of `cs` in turn (last to first if
 // `reverse`), each split over the workers in pieces whose bounds are
-// multiples of 16 (whole vector batches of every kernel).
-// A colour is split only from 2 * min_per_task elements on.
+// multiples of 16 (whole vector batches of every kernel), then after(lo,
+// hi) over [0, after_n) split as split() splits a pass over the particles
+// (the records' copy back). A colour is split only from 2 * min_per_task
+// elements on. On a pool the colours and the pass are the phases of one
+// Workers::run_phases job: the same pieces as split() gives each (so the
+// same bits), with one wake-up of the helpers per sweep instead of one per
+// colour.
+template <class K, class A>
+void sweep_colours_then(const ColourSchedule& cs, bool reverse, Workers* workers, K&& kernel,
+                        std::size_t min_per_task, std::size_t after_n, A&& after) {
+  const Index colours = cs.num_colours();
+  const auto colour = [&](Index j) { return static_cast<std::size_t>(reverse ? colours - 1 - j : j); };
+  if (workers == nullptr || workers->threads() < 2) {
+    for (Index j = 0; j < colours; ++j) {
+      const std::size_t c = colour(j);
+      kernel(static_cast<std::size_t>(cs.begin[c]), static_cast<std::size_t>(cs.begin[c + 1]));
+    }
+    if (after_n > 0) after(std::size_t(0), after_n);
+    return;
+  }
+  // Tasks per phase; kept, so that a sweep allocates nothing. A reference:
+  // the helpers must read the calling thread's.
+  thread_local std::vector<int> kept;
+  std::vector<int>& tasks = kept;
+  tasks.resize(static_cast<std::size_t>(colours) + (after_n > 0 ? 1 : 0));
+  for (Index j = 0; j < colours; ++j) {
+    const std::size_t c = colour(j);
+    tasks[static_cast<std::size_t>(j)] =
+        split_tasks(workers, static_cast<std::size_t>(cs.begin[c + 1] - cs.begin[c]), min_per_task);
+  }
+  if (after_n > 0) tasks.back() = split_tasks(workers, after_n, kMinParticlesPerTask);
+  auto piece = [&](int j, int t) {
+    const int k = tasks[static_cast<std::size_t>(j)];
+    if (j == colours) {
+      after(split_bound(after_n, k, t, 1), split_bound(after_n, k, t + 1, 1));
+      return;
+    }
+    const std::size_t c = colour(j);
+    const auto b = static_cast<std::size_t>(cs.begin[c]), n = static_cast<std::size_t>(cs.begin[c + 1]) - b;
+    kernel(b + split_bound(n, k, t, 16), b + split_bound(n, k, t + 1, 16));
+  };
+  workers->run_phases(tasks, std::ref(piece));  // std::ref: no allocation
+}
+
 template <class K>
 void sweep_colours(const ColourSchedule& cs, bool reverse, Workers* workers, K&& kernel,
                    std::size_t min_per_task = kMinPerTask) {
-  const Index colours = cs.num_colours();
-  for (Index j = 0; j < colours; ++j) {
-    const auto c = static_cast<std::size_t>(reverse ? colours - 1 - j : j);
-    const auto b = static_cast<std::size_t>(cs.begin[c]), e = static_cast<std::size_t>(cs.begin[c + 1]);
-    split(workers, e - b, 16, [&](std::size_t lo, std::size_t hi) { kernel(b + lo, b + hi); }, min_per_task);
-  }
+  sweep_colours_then(cs, reverse, workers, kernel, min_per_task, 0, [](std::size_t, std::size_t) {});
 }
 
 // to[order[j]] = from[j]: multipliers from stream order back to the
@@ -82,9 +125,11 @@ K pick_kernel(Simd level, K scalar, K avx2, K avx512) {
 }
 // State::stream_x (and stream_x_prev when damped) sized for m's particles.
 void size_records(const Model& m, State& s, bool damped);
-// x (and x_prev when damped) with 1/m into the records; back into x.
+// x (and x_prev when damped) with 1/m into the records.
 void pack_records(const Model& m, State& s, bool damped, Workers* workers);
-void unpack_records(State& s, Workers* workers);
+// The records' positions back into s.x, particles [lo, hi) (the last
+// phase of a sweep: sweep_colours_then).
+void unpack_range(State& s, std::size_t lo, std::size_t hi);
 
 // A pair stream (the Distance or the Tether one: a DistanceStream in the
 // order of its ColourSchedule) with its scratch in State and its kernels.

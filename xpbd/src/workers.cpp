@@ -1,5 +1,6 @@
 #include "xpbd/workers.hpp"
 
+#include <algorithm>
 #include <string>
 
 #include "xpbd/error.hpp"
@@ -93,7 +94,12 @@ void Workers::helper_loop(int slot) {
     }
     seen = g;
     const bool stop = stop_;
-    if (!stop) work(slot);
+    if (!stop) {
+      if (phase_job_ != nullptr)
+        work_phases(slot);
+      else
+        work(slot);
+    }
     if (active_.fetch_sub(1, std::memory_order_seq_cst) == 1) active_.notify_one();
     if (stop) return;
   }
@@ -107,6 +113,7 @@ void Workers::run(int tasks, const std::function<void(int)>& f) {
   }
   begin_setup();
   job_ = &f;
+  phase_job_ = nullptr;
   tasks_ = tasks;
   error_ = nullptr;
   if (claimed_size_ < static_cast<std::size_t>(tasks)) {
@@ -120,6 +127,72 @@ void Workers::run(int tasks, const std::function<void(int)>& f) {
   // Done when every task has run, whoever ran it: a helper that has not
   // woken yet is not waited for (it finds no task left when it does).
   wait_until(done_, [&] { return done_.load(std::memory_order_acquire) == tasks; });
+  if (error_) std::rethrow_exception(error_);
+}
+
+void Workers::run_phase_task(int p, int t) {
+  try {
+    (*phase_job_)(p, t);
+  } catch (...) {
+    std::lock_guard lock(error_mutex_);
+    if (!error_) error_ = std::current_exception();
+  }
+  const int n = phase_tasks_[static_cast<std::size_t>(p)];
+  std::atomic<int>& done = phase_done_[static_cast<std::size_t>(p)];
+  if (done.fetch_add(1, std::memory_order_acq_rel) + 1 == n) done.notify_all();
+}
+
+void Workers::work_phases(int slot) {
+  const std::vector<int>& tasks = phase_tasks_;
+  const int stride = threads();
+  for (std::size_t p = 0; p < tasks.size(); ++p) {
+    const int n = tasks[p];
+    std::atomic<unsigned char>* const claimed = claimed_.get() + phase_first_[p];
+    // As work(): home tasks first, then any not yet claimed.
+    for (int t = slot; t < n; t += stride)
+      if (claimed[t].exchange(1, std::memory_order_acq_rel) == 0) run_phase_task(int(p), t);
+    for (int t = 0; t < n; ++t)
+      if (claimed[t].load(std::memory_order_relaxed) == 0 && claimed[t].exchange(1, std::memory_order_acq_rel) == 0)
+        run_phase_task(int(p), t);
+    // The phase's barrier: its writes are seen by every task of the next.
+    std::atomic<int>& done = phase_done_[p];
+    wait_until(done, [&] { return done.load(std::memory_order_acquire) == n; });
+  }
+}
+
+void Workers::run_phases(const std::vector<int>& tasks, const std::function<void(int, int)>& f) {
+  const std::size_t phases = tasks.size();
+  bool one_each = true;
+  for (const int n : tasks) one_each = one_each && n <= 1;
+  if (helpers_.empty() || one_each) {
+    for (std::size_t p = 0; p < phases; ++p)
+      for (int t = 0; t < tasks[p]; ++t) f(int(p), t);
+    return;
+  }
+  begin_setup();
+  job_ = nullptr;
+  phase_job_ = &f;
+  phase_tasks_.resize(phases);
+  for (std::size_t p = 0; p < phases; ++p) phase_tasks_[p] = std::max(tasks[p], 0);
+  error_ = nullptr;
+  phase_first_.resize(phases);
+  std::size_t total = 0;
+  for (std::size_t p = 0; p < phases; ++p) {
+    phase_first_[p] = total;
+    total += std::size_t(phase_tasks_[p]);
+  }
+  if (claimed_size_ < total) {
+    claimed_ = std::make_unique<std::atomic<unsigned char>[]>(total);
+    claimed_size_ = total;
+  }
+  for (std::size_t k = 0; k < total; ++k) claimed_[k].store(0, std::memory_order_relaxed);
+  if (phase_done_size_ < phases) {
+    phase_done_ = std::make_unique<std::atomic<int>[]>(phases);
+    phase_done_size_ = phases;
+  }
+  for (std::size_t p = 0; p < phases; ++p) phase_done_[p].store(0, std::memory_order_relaxed);
+  publish();
+  work_phases(0);
   if (error_) std::rethrow_exception(error_);
 }
 
