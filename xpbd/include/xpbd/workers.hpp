@@ -32,7 +32,7 @@
 // of the helpers, the threads waiting for each other between phases: at
 // 128 x 128, a run of two tasks cost about 2 us beyond its work (1.2 us of
 // setup and wake-up, 0.8 us of imbalance) about 280 times per step, and
-// two threads went from 1.54-1.60x one thread to 1.63-1.68x
+// two threads went from 1.54-1.60x one thread to 1.64-1.68x
 // (docs/bench-threads.md, "One job per sweep"). One Workers serves one
 // step() at a time; it is not itself
 // thread-safe. An exception thrown by f is rethrown by run() (the first
