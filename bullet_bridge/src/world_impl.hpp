@@ -76,8 +76,8 @@ void add_moving_candidates(btCollisionWorld& world, const Vec3& lo, const Vec3& 
 // Appends the sharp feature points of a shape in the frame `t` (the body's
 // frame for t = identity): box corners and points along box edges no more
 // than `spacing` apart (if `edges`; the feature-triangle search asks for
-// them only without ContactSettings::edge_contacts), the vertices of other polyhedral
-// shapes (hulls), recursively for compounds. Smooth shapes (sphere,
+// them without ContactSettings::edge_contacts, or for a fast body), the
+// vertices of other polyhedral shapes (hulls), recursively for compounds. Smooth shapes (sphere,
 // capsule, cylinder, cone) and meshes have none. centres (if given) gets,
 // for each feature, a point inside the convex shape it belongs to (the
 // mean of its vertices; a compound's child's own). world_triangle_contacts.cpp.
