@@ -14,7 +14,8 @@ namespace {
 // Edges closer to parallel than this (sine of the angle between them) have
 // no normal: the contacts of the soft edge's two particles answer there
 // (with both ends the thickness away, a soft edge of length L this close
-// to parallel comes within thickness - 0.02 L of the rigid edge's line).
+// to parallel stays at least thickness - 0.02 L from the rigid edge's
+// line).
 constexpr Real kParallelSin = Real(0.02);
 }  // namespace
 
