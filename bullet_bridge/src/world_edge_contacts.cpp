@@ -231,8 +231,10 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
     }
     if (fs.near_edges.empty()) return;
   } else if (use_bvh) {
-    fs.body_edges_tris = fs.body_tris;
-    std::sort(fs.body_edges_tris.begin(), fs.body_edges_tris.end());
+    if (!fs.boxes_ready) {
+      fs.boxes.assign(fs.body_tris, tri_lo_, tri_hi_);
+      fs.boxes_ready = true;
+    }
   } else if (fs.all_tris.size() != tris.size()) {
     fs.all_tris.resize(tris.size());
     for (std::size_t t = 0; t < tris.size(); ++t) fs.all_tris[t] = int(t);
@@ -306,23 +308,28 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
       }
       continue;
     }
-    // With the hierarchy, the triangles near the body's feature points
-    // (triangle_contacts_of's query, sorted here once: the box's corners
-    // are feature points, so they hold every triangle near its edges);
-    // else all of them. In ascending order either way: the same contacts.
-    const auto near = [&]() -> const std::vector<int>& {
-      if (use_bvh) return fs.body_edges_tris;
-      return fs.all_tris;
-    }();
-    for (const int t : near) {
-      if ((lo.array() > tri_hi_[std::size_t(t)].array()).any() || (hi.array() < tri_lo_[std::size_t(t)].array()).any())
-        continue;
+    // The triangles whose box meets the box edge's, in ascending order,
+    // each soft edge once: with the hierarchy, among the triangles near
+    // the body's feature points (triangle_contacts_of's query, ascending;
+    // the box's corners are feature points, so they hold every triangle
+    // near its edges), by their boxes many at a time (fs.boxes); else
+    // among all of them. The same contacts either way.
+    const auto edges_of = [&](const int t) {
       for (const int e : s.tri_edges[std::size_t(t)]) {
         if (fs.edge_stamp[std::size_t(e)] == fs.stamp || found == cap) continue;
         fs.edge_stamp[std::size_t(e)] = fs.stamp;
         test(e);
       }
+    };
+    if (use_bvh) {
+      fs.edge_tris.clear();
+      fs.boxes.overlapping(lo, hi, fs.edge_tris);
+      for (const int j : fs.edge_tris) edges_of(fs.body_tris[std::size_t(j)]);
+      continue;
     }
+    for (const int t : fs.all_tris)
+      if (!(lo.array() > tri_hi_[std::size_t(t)].array()).any() && !(hi.array() < tri_lo_[std::size_t(t)].array()).any())
+        edges_of(t);
   }
 }
 

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "box_list.hpp"
 #include "pair_culling.hpp"
 #include "triangle_bvh.hpp"
 #include "triangle_grid.hpp"
@@ -205,8 +206,11 @@ struct XpbdWorld::FeatureScratch {
   std::vector<btTransform> path_tf;            // a fast body's poses along the step
   std::vector<int> body_tris, tri_found;       // triangles the hierarchy returned (body, feature)
   detail::TriangleGrid grid;                   // the body's triangles near its features
+  detail::BoxList boxes;                       // the boxes of body_tris, by coordinate
+  bool boxes_ready = false;                    // boxes holds this body's
   std::vector<std::array<Vec3, 3>> box_edges;  // a body's box edges: ends, outward bisector (body frame)
-  std::vector<int> body_edges_tris, all_tris;  // the triangles a body's box edges test, ascending
+  std::vector<int> all_tris;                   // every triangle, ascending (without the hierarchy)
+  std::vector<int> edge_tris;                  // positions in body_tris whose box meets a box edge's
   std::vector<unsigned> edge_stamp;            // per soft edge: the last rigid edge that tested it
   std::vector<int> near_edges;                 // surface edges near the body, ascending
   unsigned stamp = 0;

@@ -146,8 +146,12 @@ void collect_features(const btCollisionShape& shape, const btTransform& t, Real 
 
 }  // namespace detail
 
-// Triangles near a body's features as a whole, up to which each feature
-// tests them all rather than querying the hierarchy (bench_triangles).
+// A body's features times the triangles near it, up to which each feature
+// tests every one of those triangles, many boxes at a time (box_list.hpp):
+// a box's 8 corners and up to 512 triangles. Above it, the triangles go
+// into a grid over the features, or, with more than kBodyTriangles of them,
+// each feature queries the hierarchy itself (bench_triangles).
+constexpr std::size_t kBruteTests = 4096;
 constexpr std::size_t kBodyTriangles = 256;
 // At most this many pieces of a fast feature's path per step.
 constexpr int kSweepPieces = 16;
@@ -239,6 +243,7 @@ void XpbdWorld::triangle_contacts_of(const System& s, std::size_t k, btScalar dt
   features.clear();
   centres.clear();
   fs.body_tris.clear();  // read by edge_contacts_of after this call
+  fs.boxes_ready = false;  // and fs.boxes, when this call fills it
   const btCollisionShape& shape = *obj->getCollisionShape();
   // A box's edges are held by the edge contacts when they are on
   // (edge_contacts_of): its feature points are then its corners alone,
@@ -416,7 +421,7 @@ void XpbdWorld::triangle_contacts_of(const System& s, std::size_t k, btScalar dt
     feature_at[i] = to_vec(start * to_bt(features[i]));
     feature_travel[i] = dt * (vb.norm() + ab + wb * features[i].norm());
   }
-  bool per_feature = false;
+  bool per_feature = false, few = false;
   if (use_bvh) {
     Vec3 flo = Vec3::Constant(std::numeric_limits<Real>::max()), fhi = -flo;
     Real reach = 0;
@@ -428,8 +433,13 @@ void XpbdWorld::triangle_contacts_of(const System& s, std::size_t k, btScalar dt
     const Real pad = pad_of(flo.cwiseAbs().cwiseMax(fhi.cwiseAbs()), reach);
     fs.body_tris.clear();
     s.tri_bvh->query((flo.array() - (reach + pad)).matrix(), (fhi.array() + (reach + pad)).matrix(), fs.body_tris);
-    per_feature = fs.body_tris.size() > kBodyTriangles;
-    if (!per_feature) {
+    // The body's triangles' boxes by coordinate: each feature tests them
+    // all when that is few tests, and the box edges do (edge_contacts_of).
+    fs.boxes.assign(fs.body_tris, tri_lo_, tri_hi_);
+    fs.boxes_ready = true;
+    few = nf * fs.body_tris.size() <= kBruteTests;
+    per_feature = !few && fs.body_tris.size() > kBodyTriangles;
+    if (!few && !per_feature) {
       // The body's triangles in a grid over its features: a triangle is in
       // every cell its box, grown by the features' largest travel, meets;
       // so the cell of a feature holds every triangle its own box test
@@ -466,6 +476,11 @@ void XpbdWorld::triangle_contacts_of(const System& s, std::size_t k, btScalar dt
     if (!use_bvh) {
       for (std::size_t t = 0; t < tris.size(); ++t)
         if (!outside(q0, travel, tri_lo_[t], tri_hi_[t])) try_triangle(local, q0, travel, t, path, centre);
+    } else if (few) {
+      fs.tri_found.clear();
+      fs.boxes.overlapping((q0.array() - travel).matrix(), (q0.array() + travel).matrix(), fs.tri_found);
+      for (const int j : fs.tri_found)
+        try_triangle(local, q0, travel, std::size_t(fs.body_tris[std::size_t(j)]), path, centre);
     } else if (!per_feature) {
       const auto [near, near_end] = fs.grid.near(q0);
       for (const int* t = near; t != near_end; ++t)

@@ -68,9 +68,11 @@ struct Scene {
   // triangles: the cloth has collision triangles, and bvh_from is its
   // ContactSettings::triangle_bvh_from.
   // pool: a thread pool for the systems (SystemSettings::workers, with the
-  // coloured sweep it needs), or null; cloth_n: the cloth's size.
+  // coloured sweep it needs), or null; cloth_n: the cloth's size;
+  // edge_contacts: ContactSettings::edge_contacts (off, a box's features are
+  // also the points along its edges).
   explicit Scene(bool cull, bool triangles = false, int bvh_from = 0, xpbd::Workers* pool = nullptr,
-                 int cloth_n = 16) {
+                 int cloth_n = 16, bool edge_contacts = true) {
     auto add = [&](const std::string& name, btRigidBody* b) { bodies.emplace_back(name, b); };
     add("plane", bw.add_body(new btStaticPlaneShape(btVector3(0, 1, 0), 0), 0, pose(Vec3::Zero())));
     add("sphere", bw.add_static_sphere(Real(0.15), Vec3(Real(-0.3), Real(0.15), Real(-0.3))));
@@ -125,6 +127,7 @@ struct Scene {
     set.contacts.cull = cull;
     set.contacts.surface_edge_contacts = true;  // the cloth's edges against the box edges too
     set.contacts.triangle_bvh_from = bvh_from;
+    set.contacts.edge_contacts = edge_contacts;
     set.workers = pool;
     set.coloured = pool != nullptr;
     {
@@ -260,9 +263,15 @@ void expect_same_triangle_step(const xpbd::State& a, const xpbd::State& b, const
 // The hierarchy of the collision triangles only filters: every triangle it
 // drops fails the loop's own box test, so the triangle contacts (and the
 // step) are the loop's, bit for bit, over 1 s of a cloth falling onto
-// boxes, a hull, a compound and a fast-spinning box.
-TEST(WorldCulling, TriangleHierarchyGivesTheLoopsTriangleContacts) {
-  Scene bvh(true, true, 0), loop(true, true, std::numeric_limits<int>::max());
+// boxes, a hull, a compound and a fast-spinning box. With the edge
+// contacts (the default), a box's features are its 8 corners, and each
+// tests every triangle near the body (box_list.hpp); without them, the
+// boxes' many points along their edges use the body's grid.
+class TriangleHierarchy : public ::testing::TestWithParam<bool> {};
+
+TEST_P(TriangleHierarchy, GivesTheLoopsTriangleContacts) {
+  const bool edges = GetParam();
+  Scene bvh(true, true, 0, nullptr, 16, edges), loop(true, true, std::numeric_limits<int>::max(), nullptr, 16, edges);
   long triangle_contacts = 0, edge_contacts = 0;
   std::map<std::string, int> per_body;
   for (int k = 0; k < 60; ++k) {
@@ -281,7 +290,7 @@ TEST(WorldCulling, TriangleHierarchyGivesTheLoopsTriangleContacts) {
   std::printf("triangle contacts over 60 steps: %ld (box %d, hull %d, compound %d, spinner %d); edge contacts %ld\n",
               triangle_contacts, per_body["box"], per_body["hull"], per_body["compound"], per_body["spinner"],
               edge_contacts);
-  EXPECT_GT(edge_contacts, 0);
+  EXPECT_EQ(edge_contacts > 0, edges);
   EXPECT_GT(per_body["box"], 0);
   EXPECT_GT(per_body["spinner"], 0);
   EXPECT_GT(per_body["compound"] + per_body["hull"], 0);
@@ -289,27 +298,30 @@ TEST(WorldCulling, TriangleHierarchyGivesTheLoopsTriangleContacts) {
 
 // The same under a body whose features are near most of the cloth: a tilted
 // slab of 1.2 m x 1.2 m under the 1.4 m cloth (test_cloth) has about 400 of the 450
-// triangles near its features, more than the 256 up to which the body's
-// triangles are sorted into a grid; each feature then queries the hierarchy
-// itself.
-TEST(WorldCulling, TriangleHierarchyGivesTheLoopsTriangleContactsUnderALargeBody) {
+// triangles near its features. Its 8 corners (with the edge contacts) test
+// them all; its points along the edges (without) are too many for that, and
+// the triangles more than the 256 up to which they are sorted into a grid,
+// so each feature queries the hierarchy itself.
+TEST_P(TriangleHierarchy, GivesTheLoopsTriangleContactsUnderALargeBody) {
+  const bool edges = GetParam();
   struct Slab {
     BulletWorld bw;
     std::unique_ptr<XpbdWorld> xw;
     xpbd_bullet::SystemId cloth;
-    explicit Slab(int bvh_from) {
+    Slab(int bvh_from, bool edges) {
       bw.add_body(new btBoxShape(btVector3(Real(0.6), Real(0.03), Real(0.6))), 0,
                   pose(Vec3(0, Real(0.2), 0), btQuaternion(btVector3(1, 0, 1).normalized(), Real(0.1))));
       xw = std::make_unique<XpbdWorld>(bw.world());
       SystemSettings set;
       set.contacts.triangle_bvh_from = bvh_from;
+      set.contacts.edge_contacts = edges;
       xpbd::SceneDesc scene;
       xpbd::add_cloth_grid(scene, test_cloth(true));
       System s = make_system(scene);
       cloth = xw->add_system(s.model, s.state, set);
     }
   };
-  Slab bvh(0), loop(std::numeric_limits<int>::max());
+  Slab bvh(0, edges), loop(std::numeric_limits<int>::max(), edges);
   long triangle_contacts = 0;
   for (int k = 0; k < 60; ++k) {
     bvh.bw.step();
@@ -322,6 +334,9 @@ TEST(WorldCulling, TriangleHierarchyGivesTheLoopsTriangleContactsUnderALargeBody
   std::printf("triangle contacts over 60 steps: %ld\n", triangle_contacts);
   EXPECT_GT(triangle_contacts, 0);
 }
+
+INSTANTIATE_TEST_SUITE_P(WorldCulling, TriangleHierarchy, ::testing::Bool(),
+                         [](const auto& info) { return info.param ? "EdgeContacts" : "EdgePoints"; });
 
 // The contact search runs over the threads of a system's pool, one
 // candidate body at a time, and joins each candidate's contacts in
