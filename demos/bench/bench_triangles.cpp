@@ -18,7 +18,7 @@
 // snapshot, no bodies, no contacts) is timed the same way. Printed: medians
 // in ms, and each contact time over the cloth's step measured in the same
 // run; last, the hierarchy's whole bridge step (its contacts and the XPBD
-// solve with them, wall clock). Before timing, both modes must give the same triangle contacts, or
+// solve with them, wall clock). Before timing, both modes must give the same triangle and edge contacts, or
 // the program exits with status 1.
 //
 //   cmake --build build/double --target bench_triangles && build/double/demos/bench/bench_triangles [n ...]
@@ -57,6 +57,12 @@ double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v[v.size() / 2];
 }
+
+// A bridge step's contacts of the rigid features and edges.
+struct Found {
+  std::vector<BodyTriangleContact> triangle;
+  std::vector<BodyEdgeContact> edge;
+};
 
 struct Scene {
   btDefaultCollisionConfiguration config;
@@ -120,15 +126,15 @@ struct Scene {
   }
 
   // One bridge step from the snapshot; returns the contact generation time (s).
+  // contacts: if given, gets the step's triangle and edge contacts.
   // threaded: on the pool. whole: if given, gets the whole step's time (s):
   // the contacts and the XPBD solve with them.
-  double bridge_step(bool bvh, std::vector<BodyTriangleContact>* contacts = nullptr, bool threaded = false,
-                     double* whole = nullptr) {
+  double bridge_step(bool bvh, Found* contacts = nullptr, bool threaded = false, double* whole = nullptr) {
     xw->set_settings(id, settings(bvh ? 0 : std::numeric_limits<int>::max(), threaded ? pool.get() : nullptr));
     xw->state(id) = snapshot;
     const auto t0 = std::chrono::steady_clock::now();
     xw->pre_solve(kDt);
-    if (contacts) *contacts = xw->state(id).triangle_contacts;
+    if (contacts) *contacts = {xw->state(id).triangle_contacts, xw->state(id).edge_contacts};
     xw->updateAction(&world, kDt);
     if (whole) *whole = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const double s = xw->last_stats().contact_seconds;
@@ -156,12 +162,20 @@ struct Scene {
   }
 };
 
-bool same(const std::vector<BodyTriangleContact>& a, const std::vector<BodyTriangleContact>& b) {
-  if (a.size() != b.size()) return false;
+bool same(const Found& x, const Found& y) {
+  const auto& a = x.triangle;
+  const auto& b = y.triangle;
+  if (a.size() != b.size() || x.edge.size() != y.edge.size()) return false;
   for (std::size_t k = 0; k < a.size(); ++k)
     if (a[k].body != b[k].body || a[k].r != b[k].r || a[k].tri != b[k].tri || a[k].side != b[k].side ||
         a[k].thickness != b[k].thickness)
       return false;
+  for (std::size_t k = 0; k < x.edge.size(); ++k) {
+    const BodyEdgeContact &e = x.edge[k], &f = y.edge[k];
+    if (e.body != f.body || e.a != f.a || e.b != f.b || e.p != f.p || e.out != f.out || e.thickness != f.thickness ||
+        e.reach != f.reach || e.closing_speed != f.closing_speed)
+      return false;
+  }
   return true;
 }
 
@@ -211,12 +225,12 @@ int main(int argc, char** argv) {
   std::printf("\n|---|---|---|---|---|---|---|---|---|---|%s\n", threads > 1 ? "---|---|---|---|---|" : "");
   for (const int n : sizes) {
     Scene s(n, threads);
-    std::vector<BodyTriangleContact> a, b, c;
+    Found a, b, c;
     s.bridge_step(false, &a);
     s.bridge_step(true, &b);
     if (threads > 1) s.bridge_step(true, &c, true);
     if (!same(a, b) || (threads > 1 && !same(b, c))) {
-      std::fprintf(stderr, "bench_triangles: %d x %d: the hierarchy's triangle contacts differ from the loop's%s\n", n,
+      std::fprintf(stderr, "bench_triangles: %d x %d: the hierarchy's triangle or edge contacts differ from the loop's%s\n", n,
                    n, threads > 1 ? " (or the threads' from one thread's)" : "");
       return 1;
     }
@@ -233,7 +247,7 @@ int main(int argc, char** argv) {
       }
     }
     const double l = median(loop) * 1e3, h = median(bvh) * 1e3, cs = median(cloth) * 1e3;
-    std::printf("| %d x %d | %d | %zu | %.3f | %.3f | %.3f | %.2f | %.2f | %.1f | %.3f |", n, n, s.triangles, a.size(),
+    std::printf("| %d x %d | %d | %zu | %.3f | %.3f | %.3f | %.2f | %.2f | %.1f | %.3f |", n, n, s.triangles, a.triangle.size(),
                 cs, l, h, l / cs, h / cs, l / h, median(whole) * 1e3);
     if (threads > 1) {
       const double ht = median(bvh_t) * 1e3, ct = median(cloth_t) * 1e3;
