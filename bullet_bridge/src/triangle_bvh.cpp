@@ -19,12 +19,24 @@ Point point(const xpbd::Vec3& p) { return Point(double(p.x()), double(p.y()), do
 
 // A node of the tree in depth-first order: an inner node's left child
 // follows it, and `escape` is the first node after its subtree (its right
-// child is its left child's escape).
+// child is its left child's escape). The box in single precision
+// (to_float; 32 bytes a node, not 56: the refit and the walks touch 43 %
+// fewer bytes; a 128 x 128 cloth's 64,500 nodes take 2.1 MB, not 3.6).
+using Box3f = Eigen::Vector3f;
 struct Node {
-  Point lo, hi;  // the swept box
+  Box3f lo, hi;  // the swept box, holding the triangle's (a leaf) or the children's
   int escape;
   int tri;  // the triangle of a leaf; -1 for an inner node
 };
+static_assert(sizeof(Node) == 32);
+
+// A box in single precision: each coordinate rounded to the nearest float.
+// Rounding never reverses an order (a <= b gives float(a) <= float(b)), and
+// the nodes' and the queries' boxes are rounded alike; so a node whose
+// rounded box misses the rounded query's truly misses it, and no triangle
+// whose box overlaps the query's is lost. Triangles whose boxes miss it by
+// less than the rounding may be returned too.
+Box3f to_float(const xpbd::Vec3& v) { return v.cast<float>(); }
 }  // namespace
 
 struct TriangleBvh::Impl {
@@ -107,8 +119,8 @@ void TriangleBvh::update(const std::vector<std::array<xpbd::Index, 3>>& tris, co
     for (std::size_t i = end; i-- > begin;) {
       Node& node = nodes[i];
       if (node.tri >= 0) {
-        node.lo = point(lo[std::size_t(node.tri)]);
-        node.hi = point(hi[std::size_t(node.tri)]);
+        node.lo = to_float(lo[std::size_t(node.tri)]);
+        node.hi = to_float(hi[std::size_t(node.tri)]);
       } else {
         const Node& l = nodes[i + 1];
         const Node& r = nodes[std::size_t(l.escape)];
@@ -150,7 +162,8 @@ void TriangleBvh::update(const std::vector<std::array<xpbd::Index, 3>>& tris, co
 
 void TriangleBvh::query(const xpbd::Vec3& lo, const xpbd::Vec3& hi, std::vector<int>& out) const {
   const Impl& m = *impl_;
-  const Point a = point(lo), b = point(hi);
+  // The query's box rounded as the nodes' (to_float).
+  const Box3f a = to_float(lo), b = to_float(hi);
   const std::size_t first = out.size();
   // Depth first without a stack: a node whose box misses the query's skips
   // its subtree.

@@ -7,7 +7,9 @@
 // kept as a copy of FCL's tree in depth-first order and refitted here every
 // step, without changing its structure, to the boxes the caller gives each
 // triangle (its sweep over the step, grown by its contact band), each inner
-// node's box over its two children's. FCL's own refit (beginUpdateModel /
+// node's box over its two children's. The boxes are kept in single
+// precision in both builds (they only filter; triangle_bvh.cpp says why
+// no triangle is lost). FCL's own refit (beginUpdateModel /
 // updateSubModel / endUpdateModel) fits the leaves over the vertices itself
 // and took several times as long (docs/feature-contacts.md). A query walks
 // the tree and returns the triangles whose box overlaps a box; the caller
@@ -40,7 +42,8 @@ class TriangleBvh {
               const std::vector<xpbd::Vec3>& lo, const std::vector<xpbd::Vec3>& hi,
               xpbd::Workers* workers = nullptr);
   // Appends to out, in ascending order, the triangles whose box overlaps
-  // [lo, hi].
+  // [lo, hi], and perhaps some whose box only comes within single
+  // precision's rounding of it (the callers' exact tests drop those).
   void query(const xpbd::Vec3& lo, const xpbd::Vec3& hi, std::vector<int>& out) const;
 
  private:
