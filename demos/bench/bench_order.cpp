@@ -82,7 +82,8 @@ int main() {
   const Run ref = run(m, 400, 5, false, 1);
   std::printf("64 x 64 hanging cloth, t = 0.5 s, reference: array order 400 x 5 (mean strain %.3g)\n",
               mean_strain(m, ref.x));
-  std::printf("stream kernel: %s; precision: %s; times: median of 3, one thread\n", simd_kernel(),
+  std::printf("stream kernels: %s (Distance: %s); precision: %s; times: median of 3, one thread\n", simd_kernel(),
+              distance_kernel(),
               sizeof(Real) == 8 ? "double" : "float");
   std::printf("%9s %9s %12s %12s %12s %12s\n", "substeps", "order", "rms_err_m", "max_err_m", "mean_strain",
               "ms_per_frame");

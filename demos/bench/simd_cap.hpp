@@ -27,7 +27,7 @@ class Avx2Cap {
     if (on_) xpbd::set_simd_kernel("avx2");
   }
   ~Avx2Cap() {
-    if (on_) xpbd::set_simd_kernel(widest_kernel());
+    if (on_) xpbd::set_simd_kernel("auto");
   }
   Avx2Cap(const Avx2Cap&) = delete;
   Avx2Cap& operator=(const Avx2Cap&) = delete;
@@ -37,7 +37,7 @@ class Avx2Cap {
 };
 
 // The cap named by the environment variable XPBD_BENCH_SIMD ("avx512",
-// "avx2" or "scalar"), for the benchmarks whose rows have no capped twin
+// "avx2", "scalar" or "auto"), for the benchmarks whose rows have no capped twin
 // (bench_scale): the whole run at that kernel. Throws xpbd::ConfigError
 // for a name the library refuses.
 inline void cap_from_environment() {

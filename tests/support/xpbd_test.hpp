@@ -142,19 +142,15 @@ inline std::vector<std::string> vector_kernels() {
   return {};
 }
 
-// Caps the coloured sweeps' kernel at `name` (set_simd_kernel) while it
-// lives; then the widest again.
+// Runs the coloured sweeps on kernel `name` (set_simd_kernel; the Distance
+// sweep's too, not its measured choice) while it lives; then the default
+// again ("auto").
 class KernelCap {
  public:
-  explicit KernelCap(const std::string& name) : widest_(vector_kernels().empty() ? "scalar" : vector_kernels()[0]) {
-    set_simd_kernel(name);
-  }
-  ~KernelCap() { set_simd_kernel(widest_); }
+  explicit KernelCap(const std::string& name) { set_simd_kernel(name); }
+  ~KernelCap() { set_simd_kernel("auto"); }
   KernelCap(const KernelCap&) = delete;
   KernelCap& operator=(const KernelCap&) = delete;
-
- private:
-  std::string widest_;
 };
 
 }  // namespace xpbd::test

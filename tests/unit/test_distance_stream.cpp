@@ -64,9 +64,9 @@ TEST(DistanceStream, HoldsTheColouredElementsAndFollowsSetMaterial) {
   EXPECT_EQ(soft_seen, 40);
 }
 
-// set_simd_kernel takes the three names and refuses any other, and any
-// kernel this build or CPU does not have, naming the value; the cap shows
-// in simd_kernel() and is lifted again.
+// set_simd_kernel takes the three names (and "auto") and refuses any
+// other, and any kernel this build or CPU does not have, naming the value;
+// the cap shows in simd_kernel() and distance_kernel() and is lifted again.
 TEST(DistanceStream, KernelCapIsCheckedAndNamed) {
   const std::string widest = simd_kernel();
   for (const char* bad : {"avx1024", "", "AVX2"}) {
@@ -89,8 +89,22 @@ TEST(DistanceStream, KernelCapIsCheckedAndNamed) {
   {
     const test::KernelCap cap("scalar");
     EXPECT_STREQ(simd_kernel(), "scalar");
+    EXPECT_STREQ(distance_kernel(), "scalar");
   }
   EXPECT_EQ(std::string(simd_kernel()), widest);
+  // The Distance sweep runs a named kernel (AVX2 for "avx512" in float,
+  // which has no AVX-512 Distance kernel); by default ("auto") a vector
+  // kernel, the faster of the two where the CPU has AVX-512.
+  for (const std::string& k : test::vector_kernels()) {
+    const test::KernelCap cap(k);
+    EXPECT_EQ(std::string(distance_kernel()), k == "avx512" && sizeof(Real) == sizeof(float) ? "avx2" : k);
+  }
+  const std::string d = distance_kernel();
+  if (widest == "avx512")
+    EXPECT_TRUE(d == "avx512" || d == "avx2") << d;
+  else
+    EXPECT_EQ(d, widest);
+  EXPECT_THROW(set_simd_kernel("Auto"), ConfigError);
 }
 
 TEST(DistanceStream, UnpreparedStateAndBadSubstepAreNamed) {

@@ -2,12 +2,15 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
+#include <limits>
 #include <cmath>
 #include <cstdint>
 #include <functional>
 #include <string>
 
 #include "stream_kernel.hpp"
+#include "xpbd/aligned.hpp"
 #include "xpbd/error.hpp"
 #include "xpbd/distance_stream.hpp"
 #include "xpbd/workers.hpp"
@@ -33,6 +36,9 @@ namespace {
 // set_simd_kernel's cap; every kernel gives the same bits, so a cap changed
 // while another thread steps changes its speed only.
 std::atomic<int> simd_cap{static_cast<int>(Simd::avx512)};
+// No kernel named (set_simd_kernel("auto"), the start): the Distance sweep
+// may take the faster of its vector kernels (faster_distance_kernel).
+std::atomic<bool> simd_auto{true};
 
 const char* simd_name(Simd k) {
   switch (k) {
@@ -131,11 +137,54 @@ void pair_sweep(const Model& m, State& s, const PairStream& p, const SolveContex
   a.lambda = p.lambda.data();
   a.x = s.stream_x.data();
   a.x_prev = damped ? s.stream_x_prev.data() : nullptr;
-  const PairKernel k = pick_kernel(simd_level(simd), p.scalar, p.avx2, p.avx512);
+  PairKernel k = pick_kernel(simd_level(simd), p.scalar, p.avx2, p.avx512);
+  if (p.measured && k == p.avx512 && p.avx2 != nullptr && simd_auto.load(std::memory_order_relaxed))
+    k = faster_distance_kernel(p.avx2, p.avx512);
   // The colours, then the records back into s.x.
   sweep_colours_then(
       p.colours, sc.reverse, workers, [&](std::size_t lo, std::size_t hi) { k(a, lo, hi, damped, first); },
       p.min_per_task, s.x.size(), [&](std::size_t lo, std::size_t hi) { unpack_range(s, lo, hi); });
+}
+
+PairKernel faster_distance_kernel(PairKernel avx2, PairKernel avx512) {
+  // Measured once per process (a function-local static: the first caller
+  // measures, any other waits for it). The colour: kElements disjoint
+  // pairs of particle records along x, as a cloth row's structural edges,
+  // compliant (at = 0.01), swept kRounds times by each kernel in turn; the
+  // one with the shorter best time is kept. Every kernel gives the same
+  // bits, so the choice changes the speed only.
+  static const bool wide = [=] {
+    constexpr std::size_t kElements = 4096;
+    constexpr int kRounds = 16;
+    std::vector<Index> a(kElements), b(kElements);
+    std::vector<Real> rest(kElements, Real(0.01)), at(kElements, Real(0.01)),
+        inv_den(kElements, Real(1) / Real(2.01)), lambda(kElements, Real(0));
+    AlignedVector<Real> x(8 * kElements, Real(0));  // the kernels load whole records, aligned (State::stream_x)
+    for (std::size_t i = 0; i < kElements; ++i) {
+      a[i] = static_cast<Index>(2 * i);
+      b[i] = static_cast<Index>(2 * i + 1);
+      x[8 * i] = Real(0.02) * Real(i);
+      x[8 * i + 4] = Real(0.02) * Real(i) + Real(0.011);
+      x[8 * i + 3] = x[8 * i + 7] = Real(1);  // inverse masses
+    }
+    StreamArgs args;
+    args.a = a.data();
+    args.b = b.data();
+    args.rest = rest.data();
+    args.at = at.data();
+    args.inv_den = inv_den.data();
+    args.lambda = lambda.data();
+    args.x = x.data();
+    double best[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+    for (int r = 0; r < kRounds; ++r)
+      for (int w = 0; w < 2; ++w) {
+        const auto t0 = std::chrono::steady_clock::now();
+        (w == 1 ? avx512 : avx2)(args, 0, kElements, false, false);
+        best[w] = std::min(best[w], std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      }
+    return best[1] < best[0];
+  }();
+  return wide ? avx512 : avx2;
 }
 
 namespace {
@@ -153,7 +202,8 @@ PairStream distance_pair(const Model& m, State& s) {
   const PairKernel avx512 = nullptr;
 #endif
   return {m.distance_stream, m.distance_colours,      s.stream_at, s.stream_inv_den, s.stream_gamma,
-          s.stream_lambda,   &project_stream_scalar, avx2,        avx512,           kMinDistancePerTask};
+          s.stream_lambda,   &project_stream_scalar, avx2,        avx512,           kMinDistancePerTask,
+          true};
 }
 }  // namespace
 
@@ -226,19 +276,42 @@ void project_tether_stream(const Model& m, State& s, const SolveContext& sc, boo
 
 const char* simd_kernel() { return detail::simd_name(detail::simd_level(true)); }
 
+const char* distance_kernel() {
+  using detail::Simd;
+  const Simd level = detail::simd_level(true);
+#if XPBD_HAVE_AVX512_KERNEL && XPBD_DOUBLE && XPBD_HAVE_AVX2_KERNEL
+  if (level == Simd::avx512 && detail::simd_auto.load(std::memory_order_relaxed))
+    return detail::faster_distance_kernel(&detail::project_stream_avx2, &detail::project_stream_avx512) ==
+                   &detail::project_stream_avx512
+               ? "avx512"
+               : "avx2";
+#endif
+#if XPBD_HAVE_AVX512_KERNEL && XPBD_DOUBLE
+  return detail::simd_name(level);
+#else
+  return detail::simd_name(std::min(level, Simd::avx2));
+#endif
+}
+
 void set_simd_kernel(const std::string& name) {
   using detail::Simd;
+  if (name == "auto") {
+    detail::simd_cap.store(static_cast<int>(Simd::avx512), std::memory_order_relaxed);
+    detail::simd_auto.store(true, std::memory_order_relaxed);
+    return;
+  }
   Simd k = Simd::scalar;
   if (name == "avx512")
     k = Simd::avx512;
   else if (name == "avx2")
     k = Simd::avx2;
   else if (name != "scalar")
-    throw ConfigError("set_simd_kernel: unknown kernel \"" + name + "\" (avx512, avx2 or scalar)");
+    throw ConfigError("set_simd_kernel: unknown kernel \"" + name + "\" (auto, avx512, avx2 or scalar)");
   if (k > detail::widest_simd())
     throw ConfigError("set_simd_kernel: \"" + name + "\" is not available here (the widest kernel of this build on this CPU is " +
                       detail::simd_name(detail::widest_simd()) + ")");
   detail::simd_cap.store(static_cast<int>(k), std::memory_order_relaxed);
+  detail::simd_auto.store(false, std::memory_order_relaxed);
 }
 
 }  // namespace xpbd

@@ -145,7 +145,17 @@ struct PairStream {
   PairKernel scalar, avx2, avx512;  // null where the library has no such kernel
   // The least elements of a colour per thread (sweep_colours).
   std::size_t min_per_task = kMinPerTask;
+  // Where the CPU allows AVX-512: run the faster of the AVX-512 and AVX2
+  // kernels (faster_distance_kernel: the Distance stream's) rather than
+  // the wider.
+  bool measured = false;
 };
+// Of the AVX2 and AVX-512 Distance kernels (avx2, avx512), the one that
+// sweeps a test colour faster on this CPU, measured at the first call and
+// kept for the process (stream.cpp). The wider kernel was 1.3-1.5 times as
+// fast on an Intel Xeon and 0.8 times on an AMD EPYC
+// (docs/bench-coloured.md).
+PairKernel faster_distance_kernel(PairKernel avx2, PairKernel avx512);
 // The Distance colours' threshold: 256 elements are about 0.75 us of
 // AVX-512 work, as much as handing out an empty job to two threads (about
 // 0.75 us); see kMinParticlesPerTask.
