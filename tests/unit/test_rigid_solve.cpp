@@ -123,7 +123,7 @@ TEST(RigidSolve, HitFarAlongThePlaneFromWhereTheContactWasFoundConservesMomentum
 // from the edge: C ended at -1.8e-5 m after a tenth of that turn. In the
 // squeeze at 200 substeps, with hundreds of such contacts 1-15 mm deep,
 // that error grew over a substep's sweep until one sweep turned the bar by
-// 0.25 rad (docs/squeeze.md).
+// 0.25 rad (docs/squeeze-history.md).
 TEST(RigidSolve, SpacerFarAlongAnEdgePlaneIsMetAfterOneProjection) {
   const Real t = Real(0.005);
   const Vec3 n = Vec3(0, -0.92, 0.38).normalized();    // an edge's normal, body frame = world
