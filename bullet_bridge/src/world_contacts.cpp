@@ -306,7 +306,7 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
                     [](const detail::Candidate& c) { return detail::has_box_edges(*c.obj->getCollisionShape()); });
     if (surface_edges && s.tri_edges.size() != m.surface_triangles.size())
       detail::surface_edges(m, s.soft_edges, s.tri_edges, s.edge_begin, s.edges_at);
-    if (cs.cull) {
+    if (cs.cull && !sc.candidates.empty()) {  // no candidate: no pair to find, nothing reads them
       sc.half.resize(std::size_t(n));
       for (Index i = 0; i < n; ++i)
         sc.half[std::size_t(i)] = m.radius[i] + cs.thickness + cs.margin + dt * st.v[i].norm();
@@ -433,7 +433,7 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
   double error = 0, depth = 0;
   const auto measure = [&] {
     double e = 0;
-    if (tol.strain > 0) e = double(xpbd::distance_strain(m, st).max) / tol.strain;
+    if (tol.strain > 0) e = double(xpbd::max_distance_strain(m, st)) / tol.strain;
     if (tol.penetration > 0) {
       depth = double(xpbd::rigid::deepest_contact_violation(st, dt / Real(subs)));
       e = std::max(e, depth / tol.penetration);

@@ -19,12 +19,17 @@ struct Energies {
   double mass = 0;       // kg, movable particles
 };
 
-Energies energies(const xpbd::Model& m, const xpbd::State& st, const Vec3& g) {
+// masses: the particles' (System::health_mass), filled on first use.
+Energies energies(const xpbd::Model& m, std::vector<double>& masses, const xpbd::State& st, const Vec3& g) {
+  if (masses.size() != m.inv_mass.size()) {
+    masses.resize(m.inv_mass.size());
+    for (std::size_t i = 0; i < masses.size(); ++i)
+      masses[i] = m.inv_mass[i] > Real(0) ? 1.0 / double(m.inv_mass[i]) : 0.0;
+  }
   Energies e;
   for (std::size_t i = 0; i < st.x.size(); ++i) {
-    const Real w = m.inv_mass[i];
-    if (!(w > Real(0))) continue;  // kinematic: infinite mass, driven
-    const double mass = 1.0 / double(w);
+    const double mass = masses[i];
+    if (!(mass > 0)) continue;  // kinematic: infinite mass, driven
     e.mass += mass;
     e.kinetic += 0.5 * mass * double(st.v[i].squaredNorm());
     e.potential -= mass * double(g.dot(st.x[i]));
@@ -42,7 +47,7 @@ double point_speed(const xpbd::RigidBody& b, const Vec3& r) {
 void XpbdWorld::health_before_solve(System& s, btScalar dt) {
   const xpbd::Model& m = *s.model;
   const xpbd::State& st = s.state;
-  const Energies e = energies(m, st, to_vec(world_.getGravity()));
+  const Energies e = energies(m, s.health_mass, st, to_vec(world_.getGravity()));
   if (!s.observed_started) {
     s.observed = {};
     s.observed.kinetic0 = e.kinetic;
@@ -78,8 +83,8 @@ void XpbdWorld::health_after_step(System& s) {
   SystemHealth& h = s.health;
   xpbd::HealthObservation& o = s.observed;
   o.finite = all_finite(st);
-  const Energies e = energies(m, st, to_vec(world_.getGravity()));
-  const double strain = double(xpbd::distance_strain(m, st).max);
+  const Energies e = energies(m, s.health_mass, st, to_vec(world_.getGravity()));
+  const double strain = double(xpbd::max_distance_strain(m, st));
   // Per step: this step's strain and kinetic energy against the budget so far.
   o.max_strain = strain;
   o.kinetic_max = e.kinetic;

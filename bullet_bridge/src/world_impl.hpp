@@ -326,6 +326,9 @@ struct XpbdWorld::System {
   double edits_input = 0;  // J, energy the application added between steps, summed
   double touch_input = 0;  // J, the most a body or pin could give in one step (2 M v^2)
   std::vector<Vec3> health_pins;  // State::pin_target at the last step
+  // kg per particle, 1 / Model::inv_mass (0: kinematic), taken once: the
+  // inverse masses are fixed after compile (set_material keeps them).
+  std::vector<double> health_mass;
   // The tolerance's controller (SystemSettings::tolerance, world_contacts.cpp).
   int tol_substeps = 0;  // substeps for the next step (0: start from SystemSettings::substeps)
   int tol_calm = 0;      // steps in a row that could have taken fewer substeps

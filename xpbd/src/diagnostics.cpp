@@ -1,5 +1,8 @@
 #include "xpbd/diagnostics.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace xpbd {
 
 Real kinetic_energy(const Model& m, const State& s) {
@@ -42,6 +45,29 @@ Strain distance_strain(const Model& m, const State& s) {
   }
   st.mean = sum / static_cast<Real>(d.size());
   return st;
+}
+
+Real max_distance_strain(const Model& m, const State& s) {
+  // Per element q = len^2 / rest^2, and the strain max(sqrt(max q) - 1,
+  // 1 - sqrt(min q)). The bounds are tested by multiplication (a division
+  // only where one moves), and a NaN q fails both tests, so it is skipped.
+  const Vec3* const x = s.x.data();
+  double hi = 1, lo = 1;  // strain 0
+  const auto add = [&](const Vec3& xa, const Vec3& xb, Real rest) {
+    const double dx = double(xa.x()) - double(xb.x()), dy = double(xa.y()) - double(xb.y()),
+                 dz = double(xa.z()) - double(xb.z());
+    const double l2 = dx * dx + dy * dy + dz * dz, r2 = double(rest) * double(rest);
+    if (l2 > hi * r2) hi = l2 / r2;
+    if (l2 < lo * r2) lo = l2 / r2;
+  };
+  const DistanceStream& ds = m.distance_stream;
+  const auto& d = m.get<Distance>();
+  if (ds.size() == d.size()) {  // compiled: 16 bytes per element to read instead of 40
+    for (std::size_t j = 0; j < ds.size(); ++j) add(x[ds.a[j]], x[ds.b[j]], ds.rest[j]);
+  } else {
+    for (const Distance& c : d) add(x[c.p[0]], x[c.p[1]], c.rest);
+  }
+  return Real(std::max(std::sqrt(hi) - 1, 1 - std::sqrt(lo)));
 }
 
 }  // namespace xpbd
