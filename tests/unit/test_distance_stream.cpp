@@ -128,6 +128,28 @@ TEST(DistanceStream, UnpreparedStateAndBadSubstepAreNamed) {
   }
   prepare_stream(m, s, sc.h);
   EXPECT_NO_THROW(project_stream(m, s, sc, true));
+  // A stream without its inverse-mass sums (not made by compile) is named,
+  // by prepare_stream and by a coloured step.
+  Model bare = m;
+  bare.distance_stream.inv_mass_sum.clear();
+  try {
+    prepare_stream(bare, s, sc.h);
+    ADD_FAILURE() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("model.distance_stream.inv_mass_sum has 0 entries"), std::string::npos)
+        << e.what();
+  }
+  StepConfig cfg;
+  cfg.dt = Real(0.01);
+  cfg.coloured = true;
+  try {
+    step(bare, s, cfg);
+    ADD_FAILURE() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("StepConfig.coloured: model.distance_stream.inv_mass_sum"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 // One sweep from a perturbed state: the stream kernel against the

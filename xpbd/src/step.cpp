@@ -74,6 +74,7 @@ void check_colours(const Model& m) {
       static_cast<std::size_t>(tc.begin.back()) != nt)
     throw ConfigError("StepConfig.coloured: model.tether_colours covers " + std::to_string(tc.order.size()) +
                       " elements, the model has " + std::to_string(nt) + " Tether elements (use compile)");
+  detail::check_inv_mass_sums(m, "StepConfig.coloured");
 }
 
 // Pin targets at fraction t in [0, 1] of the step.

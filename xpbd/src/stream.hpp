@@ -187,16 +187,24 @@ void stream_end_step(const Model& m, State& s);
 // The compiled stream of m's Distance elements in m.distance_colours order.
 DistanceStream make_distance_stream(const Model& m);
 
-// A pair stream of `es` in `order`; rest(e) is an element's rest value.
+// Throws ConfigError, naming `who`, if the Distance or Tether stream lacks
+// its inv_mass_sum (a Model not made by compile).
+void check_inv_mass_sums(const Model& m, const char* who);
+
+// A pair stream of `es` in `order` (inv_mass: the model's, for
+// inv_mass_sum); rest(e) is an element's rest value.
 template <class T, class Rest>
-DistanceStream make_pair_stream(const std::vector<T>& es, const std::vector<Index>& order, Rest rest) {
+DistanceStream make_pair_stream(const std::vector<T>& es, const std::vector<Index>& order,
+                                const std::vector<Real>& inv_mass, Rest rest) {
   DistanceStream ps;
   const std::size_t n = order.size();
   ps.a.resize(n), ps.b.resize(n), ps.rest.resize(n), ps.compliance.resize(n), ps.damping.resize(n);
+  ps.inv_mass_sum.resize(n);
   for (std::size_t j = 0; j < n; ++j) {
     const T& c = es[static_cast<std::size_t>(order[j])];
     ps.a[j] = c.p[0], ps.b[j] = c.p[1], ps.rest[j] = rest(c);
     ps.compliance[j] = c.mat.compliance, ps.damping[j] = c.mat.damping;
+    ps.inv_mass_sum[j] = inv_mass[static_cast<std::size_t>(c.p[0])] + inv_mass[static_cast<std::size_t>(c.p[1])];
   }
   return ps;
 }

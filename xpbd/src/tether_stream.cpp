@@ -49,7 +49,8 @@ void tether_end_step(const Model& m, State& s) {
 }
 
 DistanceStream make_tether_stream(const Model& m) {
-  return make_pair_stream(m.get<Tether>(), m.tether_colours.order, [](const Tether& c) { return c.length; });
+  return make_pair_stream(m.get<Tether>(), m.tether_colours.order, m.inv_mass,
+                          [](const Tether& c) { return c.length; });
 }
 
 }  // namespace detail

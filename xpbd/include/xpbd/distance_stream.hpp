@@ -50,6 +50,9 @@ struct DistanceStream {
   std::vector<Real> rest;         // m
   std::vector<Real> compliance;   // m/N
   std::vector<Real> damping;      // s (Material::damping)
+  // 1/kg: inv_mass[a] + inv_mass[b] (Model::inv_mass is fixed after
+  // compile), so that the per-step factors need no gather.
+  std::vector<Real> inv_mass_sum;
 
   std::size_t size() const { return a.size(); }
 };
