@@ -16,6 +16,10 @@
 //                         copy of the state and one pass over the contacts
 //                         per step, and no step solved again (the drape is
 //                         within 5 mm at 10 substeps).
+// Then the pinned cloth with the coloured sweep, checks off and on, at 1
+// and at 20 substeps:
+//   coloured_step/checks:C/substeps:S
+// where one substep shows what a step costs besides its sweeps.
 // Compare within one run (the machine is shared): the checks' cost is
 // checks:1 / checks:0 - 1, the target's target:1 / target:0 - 1.
 // docs/bench-bridge.md runs it as
@@ -43,7 +47,7 @@ struct Scene {
   xpbd_bullet::SystemId id;
 
   // box: the draped variant (the static box under the cloth, no pins).
-  Scene(bool checks, bool target, bool with_box) {
+  Scene(bool checks, bool target, bool with_box, bool coloured = false, int substeps = 10) {
     world.setGravity(btVector3(0, btScalar(-9.81), 0));
     if (with_box) {
       btRigidBody::btRigidBodyConstructionInfo info(0, nullptr, &box_shape);
@@ -66,6 +70,8 @@ struct Scene {
     xpbd_bullet::SystemSettings set;
     set.check_health = checks;
     if (!target) set.tolerance.penetration = 0;
+    set.coloured = coloured;
+    set.substeps = substeps;
     id = xw->add_system(model, xpbd::make_state(*model), set);
     for (int f = 0; f < 60; ++f) step();
   }
@@ -81,6 +87,12 @@ void world_step(benchmark::State& state) {
   for (auto _ : state) s.step();
 }
 BENCHMARK(world_step)->Arg(0)->Arg(1)->ArgName("checks");
+
+void coloured_step(benchmark::State& state) {
+  Scene s(state.range(0) != 0, false, false, true, int(state.range(1)));
+  for (auto _ : state) s.step();
+}
+BENCHMARK(coloured_step)->ArgsProduct({{0, 1}, {1, 20}})->ArgNames({"checks", "substeps"});
 
 void draped_step(benchmark::State& state) {
   Scene s(true, state.range(0) != 0, true);
