@@ -3,8 +3,10 @@
 // contacts the host adds then are solved in the same substep.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "support/xpbd_test.hpp"
@@ -92,6 +94,65 @@ TEST(RefreshContacts, StraightMotionAndKinematicParticlesAreNotPassed) {
   cfg.refresh_contacts = [&](std::span<const Index>, int) { ++calls; };
   for (int k = 0; k < 10; ++k) step(m, s, cfg);
   EXPECT_EQ(calls, 0);
+}
+
+// Twenty particles at rest in a row, one substep of h = 0.01 s without
+// gravity, margin d = 0.01 m: a particle of mass 1 kg pushed by a force f
+// is h^2 f off its path after the prediction, so it is passed iff
+// |h^2 f| > d. The escapes sit inside the vector kernels' batches (8
+// particles in double, 16 in float) and in the tail after them, next to
+// particles that come close to the margin (past d / sqrt(3) in a
+// coordinate, or in all three) without leaving it, and a kinematic one
+// with a force; and one that leaves it with each coordinate well inside. The particles passed are those of the closed form, with
+// and without the vector kernels (StepConfig::simd).
+TEST(RefreshContacts, EscapesInsideAndAfterWholeBatchesAreFound) {
+  SceneDesc d;
+  for (int i = 0; i < 20; ++i) d.add_particle(Vec3(Real(i), 0, 0), i == 9 ? 0 : 1);
+  const Model m = compile(d);
+  const Real h = Real(0.01), margin = Real(0.01);
+  // Offsets after the prediction, in margins.
+  const std::vector<std::pair<int, Vec3>> pushes = {
+      {3, Vec3(1.5, 0, 0)},          // out
+      {5, Vec3(0, 0.9, 0)},          // in, past d / sqrt(3) in y
+      {9, Vec3(3, 0, 0)},            // kinematic: does not move
+      {10, Vec3(0.58, 0.58, 0.5)},   // in (0.961 d), past d / sqrt(3) in x and y
+      {12, Vec3(0.6, 0.6, 0.6)},     // out (1.039 d), each coordinate within 0.6 d
+      {17, Vec3(0, 0, -2)}};         // out, after the double kernel's batches
+  // Which pushes: all; the near misses and 12 (the only escape, within the
+  // margin in every coordinate; in double in a batch of its own); the near
+  // misses.
+  const std::vector<std::vector<int>> cases = {{3, 5, 9, 10, 12, 17}, {5, 10, 12}, {5, 10}};
+  for (const std::vector<int>& pushed : cases) {
+    for (bool simd : {true, false}) {
+      State s = make_state(m);
+      s.f_ext.assign(20, Vec3::Zero());
+      std::vector<Index> want;
+      for (const auto& [i, off] : pushes) {
+        if (std::find(pushed.begin(), pushed.end(), i) == pushed.end()) continue;
+        s.f_ext[std::size_t(i)] = off * (margin / (h * h));
+        if (m.inv_mass[i] > 0 && off.norm() > 1) want.push_back(i);
+      }
+      StepConfig cfg;
+      cfg.dt = h;
+      cfg.substeps = 1;
+      cfg.gravity = Vec3::Zero();
+      cfg.contact_margin = margin;
+      cfg.simd = simd;
+      std::vector<Call> calls;
+      cfg.refresh_contacts = [&](std::span<const Index> e, int sub) {
+        calls.push_back({std::vector<Index>(e.begin(), e.end()), sub, Vec3::Zero(), Vec3::Zero()});
+      };
+      step(m, s, cfg);
+      if (want.empty()) {
+        EXPECT_TRUE(calls.empty()) << "simd " << simd;
+      } else {
+        ASSERT_EQ(calls.size(), 1u) << "simd " << simd;
+        EXPECT_EQ(calls[0].escaped, want) << "simd " << simd;
+      }
+      // The near misses did move as the closed form says (close to the margin).
+      EXPECT_NEAR((s.x[5] - m.x0[5]).norm(), Real(0.9) * margin, 1e3 * kEps) << "simd " << simd;
+    }
+  }
 }
 
 // A floor the host did not know of at the start of the step (no contact):

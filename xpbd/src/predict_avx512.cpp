@@ -6,7 +6,8 @@
 // records (x, y, z, w) are built from two neighbouring registers by a
 // two-source permute with w blended in. Built, like stream_avx512.cpp,
 // with -mavx512f -ffp-contract=off, and called only on a CPU that reports
-// AVX-512F.
+// AVX-512F. Also the contact refresh's path filter (PathArgs), which reads
+// the same layout.
 #include <immintrin.h>
 
 #include "predict_kernel.hpp"
@@ -25,6 +26,8 @@ R add(R p, R q) { return _mm512_add_pd(p, q); }
 R sub(R p, R q) { return _mm512_sub_pd(p, q); }
 R mul(R p, R q) { return _mm512_mul_pd(p, q); }
 Mask positive(R p) { return _mm512_cmp_pd_mask(p, _mm512_setzero_pd(), _CMP_GT_OQ); }
+Mask nonzero(R p) { return _mm512_cmp_pd_mask(p, _mm512_setzero_pd(), _CMP_NEQ_UQ); }
+Mask le(R p, R q) { return _mm512_cmp_pd_mask(p, q, _CMP_LE_OQ); }
 R select(Mask m, R p, R q) { return _mm512_mask_blend_pd(m, q, p); }  // m ? p : q
 R permute(__m512i idx, R p) { return _mm512_permutexvar_pd(idx, p); }
 R permute2(R p, __m512i idx, R q) { return _mm512_permutex2var_pd(p, idx, q); }
@@ -45,6 +48,8 @@ R add(R p, R q) { return _mm512_add_ps(p, q); }
 R sub(R p, R q) { return _mm512_sub_ps(p, q); }
 R mul(R p, R q) { return _mm512_mul_ps(p, q); }
 Mask positive(R p) { return _mm512_cmp_ps_mask(p, _mm512_setzero_ps(), _CMP_GT_OQ); }
+Mask nonzero(R p) { return _mm512_cmp_ps_mask(p, _mm512_setzero_ps(), _CMP_NEQ_UQ); }
+Mask le(R p, R q) { return _mm512_cmp_ps_mask(p, q, _CMP_LE_OQ); }
 R select(Mask m, R p, R q) { return _mm512_mask_blend_ps(m, q, p); }
 R permute(__m512i idx, R p) { return _mm512_permutexvar_ps(idx, p); }
 R permute2(R p, __m512i idx, R q) { return _mm512_permutex2var_ps(p, idx, q); }
@@ -163,6 +168,32 @@ std::size_t predict_avx512(const PredictArgs& a, std::size_t lo, std::size_t hi)
   if (a.before == 1) return run_records<1>(a, lo, hi);
   if (a.before == 2) return run_records<2>(a, lo, hi);
   return run_records<0>(a, lo, hi);
+}
+
+std::size_t off_path_avx512(const PathArgs& a, std::size_t lo, std::size_t hi, std::size_t& batch) {
+  batch = lo;
+  if (hi < lo + K) return lo;
+  __m512i spread[3];  // as Tables::spread: element j of register k is particle (k N + j) / 3's
+  for (int k = 0; k < 3; ++k) spread[k] = indices([&](int j) { return (k * N + j) / 3; });
+  const R t_end = set1(a.t_end), bound2 = set1(a.bound2);
+  std::size_t i = lo;
+  for (; i + K <= hi; i += K) {
+    const R w = load(a.inv_mass + i);
+    const R dt = sub(t_end, load(a.path_t + i));
+    Mask out = 0;
+    for (int k = 0; k < 3; ++k) {
+      const std::size_t at = 3 * i + std::size_t(k) * N;
+      const R on_path = add(load(a.path_x + at), mul(permute(spread[k], dt), load(a.path_v + at)));
+      const R d = sub(load(a.x + at), on_path);
+      out = static_cast<Mask>(out | (nonzero(permute(spread[k], w)) & ~le(mul(d, d), bound2)));
+    }
+    if (out != 0) {
+      batch = i;
+      return i + K;
+    }
+  }
+  batch = i;
+  return i;
 }
 
 }  // namespace xpbd::detail
