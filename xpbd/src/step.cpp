@@ -4,7 +4,6 @@
 #include <charconv>
 #include <cstdint>
 #include <cmath>
-#include <limits>
 #include <string>
 #include <type_traits>
 
@@ -17,6 +16,7 @@
 #include "trees_solve.hpp"
 #include "hierarchy.hpp"
 #include "predict_kernel.hpp"
+#include "refresh_paths.hpp"
 #include "stream.hpp"
 
 namespace xpbd {
@@ -258,69 +258,6 @@ void predict(const Model& m, State& s, const StepConfig& cfg, Real h, const Velo
   }
 }
 
-// StepConfig::refresh_contacts: every particle's path starts at the step's
-// start.
-void begin_paths(const Model& m, State& s) {
-  s.path_x = s.x;
-  s.path_v = s.v;
-  s.path_t.assign(static_cast<std::size_t>(m.num_particles()), Real(0));
-}
-
-// The movable particles whose predicted position (the end of substep `sub`)
-// is farther than the margin from their path, passed to the host; their
-// paths restart at the substep's start. Returns whether any was passed.
-bool refresh_escaped(const Model& m, State& s, const StepConfig& cfg, int sub, Real h) {
-  const Real t_end = Real(sub + 1) * h, t_start = Real(sub) * h;
-  const Real margin2 = cfg.contact_margin * cfg.contact_margin;
-  s.escaped.clear();
-  // The exact test of particles [lo, hi), in order.
-  const auto exact = [&](std::size_t lo, std::size_t hi) {
-    for (std::size_t i = lo; i < hi; ++i) {
-      if (m.inv_mass[i] == Real(0)) continue;
-      const Vec3 on_path = s.path_x[i] + (t_end - s.path_t[i]) * s.path_v[i];
-      if (!((s.x[i] - on_path).squaredNorm() <= margin2)) {
-        s.escaped.push_back(static_cast<Index>(i));
-        s.path_x[i] = s.x_prev[i];
-        s.path_v[i] = s.v[i];
-        s.path_t[i] = t_start;
-      }
-    }
-  };
-  std::size_t from = 0;  // the exact test runs from here to the end
-#if XPBD_HAVE_AVX512_KERNEL
-  // Most particles stay on their path: the AVX-512 filter
-  // (predict_kernel.hpp, PathArgs) proves that for whole batches at a
-  // fraction of the exact test's cost, and leaves a batch it cannot clear
-  // to the exact test. Its bound leaves room for the exact test's
-  // round-off (a sum of 3 squares), so it never clears a particle the test
-  // would pass.
-  if (detail::simd_level(cfg.simd) == detail::Simd::avx512 && !s.x.empty()) {
-    detail::PathArgs a;
-    a.x = s.x.front().data();
-    a.path_x = s.path_x.front().data();
-    a.path_v = s.path_v.front().data();
-    a.path_t = s.path_t.data();
-    a.inv_mass = m.inv_mass.data();
-    a.t_end = t_end;
-    a.bound2 = margin2 / Real(3) * (Real(1) - Real(16) * std::numeric_limits<Real>::epsilon());
-    for (;;) {
-      std::size_t batch = 0;
-      const std::size_t stop = detail::off_path_avx512(a, from, s.x.size(), batch);
-      if (batch == stop) {  // no batch flagged up to stop
-        from = stop;
-        break;
-      }
-      exact(batch, stop);
-      from = stop;
-    }
-  }
-#endif
-  exact(from, s.x.size());
-  if (s.escaped.empty()) return false;
-  cfg.refresh_contacts(std::span<const Index>(s.escaped), sub);
-  return true;
-}
-
 void reset_multipliers(State& s, bool skip_distance, bool skip_dihedral, bool skip_tether) {
   for (std::size_t k = 0; k < s.lambda.size(); ++k)
     if (!(skip_distance && k == type_index_v<Distance>) && !(skip_dihedral && k == type_index_v<DihedralBending>) &&
@@ -460,7 +397,7 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
     }
   });
   const bool refresh = cfg.contact_margin > Real(0) && static_cast<bool>(cfg.refresh_contacts);
-  if (refresh) begin_paths(m, s);
+  if (refresh) detail::begin_paths(m, s);
   // Opt-in particle-particle collision: candidate pairs within the contact
   // distance plus the step's travel, from a spatial hash (spatial_hash.hpp).
   timed(t, stage::self_collision_search, m.self_collision.enabled,
@@ -515,7 +452,7 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
       // keep the records: they are written again after it ran.
       if (refresh) {
         const std::size_t contacts = s.contacts.size(), bodies = s.bodies.size();
-        if (refresh_escaped(m, s, cfg, sub, h)) {
+        if (detail::refresh_escaped(m, s, cfg, sub, h)) {
           rigid::contacts_added(m, s, contacts, bodies);
           records = 0;
         }
