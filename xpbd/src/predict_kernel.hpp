@@ -28,7 +28,7 @@ struct PredictArgs {
 };
 
 // The test StepConfig::refresh_contacts makes after every prediction
-// (step.cpp, refresh_escaped), as a filter that proves no particle of a
+// (refresh_paths.cpp, refresh_escaped), as a filter that proves no particle of a
 // batch left its path: per coordinate c of a movable particle i (w != 0),
 //   d = x - (path_x + (t_end - path_t) * path_v),  flagged unless d^2 <= bound2.
 // With bound2 a little under margin^2 / 3, a batch with no coordinate
