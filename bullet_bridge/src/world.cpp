@@ -66,6 +66,11 @@ void check_settings(const SystemSettings& s) {
         "must be finite and >= 0 (m, 0 = off), got " + xpbd::format_value(s.tolerance.penetration));
   if (s.tolerance.max_substeps < 1)
     bad("tolerance.max_substeps", "must be >= 1, got " + std::to_string(s.tolerance.max_substeps));
+  if (s.tolerance.measure != StrainMeasure::total && s.tolerance.measure != StrainMeasure::residual)
+    bad("tolerance.measure", "must be StrainMeasure::total or residual, got " +
+                                 std::to_string(static_cast<int>(s.tolerance.measure)));
+  if (s.tolerance.measure == StrainMeasure::residual && s.method != xpbd::Method::xpbd)
+    bad("tolerance.measure", "StrainMeasure::residual needs method xpbd (PBD's multipliers are not XPBD's)");
 }
 
 // Bullet has no getter for the pre-tick callback; it is a protected member

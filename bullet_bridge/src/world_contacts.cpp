@@ -433,7 +433,10 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
   double error = 0, depth = 0;
   const auto measure = [&] {
     double e = 0;
-    if (tol.strain > 0) e = double(xpbd::max_distance_strain(m, st)) / tol.strain;
+    if (tol.strain > 0)
+      e = double(tol.measure == StrainMeasure::residual ? xpbd::max_distance_residual(m, st)
+                                                         : xpbd::max_distance_strain(m, st)) /
+          tol.strain;
     if (tol.penetration > 0) {
       depth = double(xpbd::rigid::deepest_contact_violation(st, dt / Real(subs)));
       e = std::max(e, depth / tol.penetration);

@@ -178,6 +178,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
               set.tolerance.strain = in.ConsumeBool() ? 0 : double(value(in, 0, 0.2f));
               set.tolerance.penetration = in.ConsumeBool() ? 0 : double(value(in, 0, 0.01f));
               set.tolerance.max_substeps = in.ConsumeIntegralInRange<int>(0, 12);
+              // 2 is no StrainMeasure: the settings must refuse it.
+              set.tolerance.measure = static_cast<xpbd_bullet::StrainMeasure>(in.ConsumeIntegralInRange<int>(0, 2));
               xw.set_settings(sys, set);
             }
             break;

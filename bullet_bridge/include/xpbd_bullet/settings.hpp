@@ -206,10 +206,21 @@ struct SystemTimes {
 //     without going back and forth.
 // The strain from the compliance itself (a link at compliance alpha carrying
 // a force F stretches by alpha F) does not fall with substeps, nor does a
-// contact's overlap at its compliance: a tolerance below them is reported as
-// missed at max_substeps.
+// contact's overlap at its compliance: with StrainMeasure::total, a strain
+// tolerance below it is reported as missed at max_substeps. With
+// StrainMeasure::residual the strain target measures only the stretch that
+// the compliance and damping do not explain (the solve's error), so a soft
+// material may stretch as far as its compliance says.
+enum class StrainMeasure {
+  total,     // the largest |len/rest - 1| (xpbd::max_distance_strain)
+  residual,  // the largest |C + at lambda + damping| / rest of the last substep
+             // (xpbd::max_distance_residual; Method::xpbd only). At compliance 0
+             // the same as total.
+};
+
 struct Tolerance {
   double strain = 0;       // 1, > 0 turns the strain target on; 0 = off
+  StrainMeasure measure = StrainMeasure::total;  // what the strain target measures
   double penetration = 0.005;  // m, > 0 turns the contact target on (the default); 0 = off
   int max_substeps = 200;  // >= 1: the most substeps the system may take in one step
   // With neither target on (strain = penetration = 0),

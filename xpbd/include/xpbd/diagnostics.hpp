@@ -25,6 +25,21 @@ Strain distance_strain(const Model& m, const State& s);
 // bridge's divergence check runs it after every step.
 Real max_distance_strain(const Model& m, const State& s);
 
+// The largest residual of the Distance elements' XPBD equation in the last
+// substep, over the rest length (dimensionless, like a strain):
+//   |C + at lambda + gamma n.((x_a - x_prev_a) - (x_b - x_prev_b))| / rest,
+// C = len - rest, at = alpha/h^2, gamma = alpha beta/h, h = s.last_substep,
+// lambda the element's multiplier after the step (Macklin et al. 2016,
+// eqs. 9 and 26). It is the part of |len/rest - 1| that the element's
+// compliance (under the force lambda/h^2 of the last substep) and its
+// damping do not explain: the solve's error, 0 where it has converged. At
+// compliance 0 it is the strain; an element of a soft material at rest
+// under load has its stretch in the strain and not here. Meaningful after
+// an XPBD step (Method::pbd's multipliers are not XPBD's); before any step
+// (h = 0) it is the strain. A NaN residual is skipped, an infinite one
+// gives infinity (as max_distance_strain).
+Real max_distance_residual(const Model& m, const State& s);
+
 // Generalized force of constraint k of type T in the last substep:
 // lambda/h^2 (N for length constraints). Sign: positive pushes C up, so a
 // stretched distance constraint (C > 0) has a negative value (tension).
