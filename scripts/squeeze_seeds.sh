@@ -4,12 +4,15 @@
 # (deepest particle centre inside a body, frames deeper than the contact
 # thickness, largest edge strain, sweeps per step, frames with an edge
 # stretched over 20 %, such edges over the frames and how many of them pass
-# through a body). The figures in
-# docs/squeeze.md come from this. About a minute in double.
+# through a body: through the bar, and at a particle attached to it). The
+# figures in docs/squeeze.md come from this. About a minute in double at the
+# defaults; about two with --strain 0.2.
 #
 #   scripts/squeeze_seeds.sh                    builds and uses build/double
 #   BUILD_DIR=build/float scripts/squeeze_seeds.sh
 #   scripts/squeeze_seeds.sh --surface-edges    with ContactSettings::surface_edge_contacts
+#   scripts/squeeze_seeds.sh --strain 0.2       with the tolerance's strain target (SystemSettings::tolerance.strain)
+#   scripts/squeeze_seeds.sh --seeds 5-8        wrinkle seeds 5 to 8 only (--seeds 5: one seed)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [ -z "${BUILD_DIR:-}" ]; then

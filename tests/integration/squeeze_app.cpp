@@ -61,14 +61,14 @@ xpbd_bullet::SystemId add_cloth(XpbdWorld& xw, btRigidBody* bar, const SystemSet
   for (int i = 0; i < kN * kN; ++i) scene.positions[std::size_t(grid.first + i)].z() += kWrinkle * Real(u(rng));
   System sys = make_system(scene);
   const auto id = xw.add_system(sys.model, sys.state, set);
-  for (int i : {0, kN / 2, kN - 1})
+  for (int i : kAttached)
     xw.attach(id, grid.first + i, bar, bt(sys.model->x0[std::size_t(grid.first + i)] - kBarStart));
   return id;
 }
 
 
 Result run(int bodies, bool cloth, int contact_sweeps, bool after_solve, int substeps, unsigned wrinkle_seed,
-           int frames, double penetration, bool wedges, bool surface_edges) {
+           int frames, double penetration, bool wedges, bool surface_edges, double strain) {
   BulletWorld bw;
   bw.add_body(new btStaticPlaneShape(btVector3(0, 1, 0), 0), 0, BulletWorld::at(Vec3::Zero()));
   btRigidBody* bar = bw.add_body(new btBoxShape(bt(kBarHalf)), kBarMass, BulletWorld::at(kBarStart));
@@ -81,11 +81,14 @@ Result run(int bodies, bool cloth, int contact_sweeps, bool after_solve, int sub
   set.contacts.surface_edge_contacts = surface_edges;
   if (substeps > 0) set.substeps = substeps;
   set.tolerance.penetration = penetration;
+  set.tolerance.strain = strain;
   xpbd_bullet::SystemId id;
   if (cloth) id = add_cloth(xw, bar, set, false, wrinkle_seed);
   Result r;
   r.sweeps_per_step = 0;
   std::vector<const btCollisionObject*> near;
+  std::vector<bool> attached(std::size_t(kN * kN), false);
+  for (int i : kAttached) attached[std::size_t(i)] = true;
   for (int f = 0; f < frames; ++f) {
     bw.step();
     r.bar.push_back(vec(bar->getCenterOfMassPosition()));
@@ -115,12 +118,16 @@ Result run(int bodies, bool cloth, int contact_sweeps, bool after_solve, int sub
       over = true;
       ++r.edges_over;
       const Vec3 mid = (s.x[d.p[0]] + s.x[d.p[1]]) / 2;
-      bool through = mid.y() < 0;
+      bool through = mid.y() < 0, through_bar = false;
       for (const btCollisionObject* o : near) {
         xpbd_bullet::ParticleContact pc;
-        through = through || (xpbd_bullet::query_point(*o, mid, 0, pc) && pc.distance < 0);
+        const bool in = xpbd_bullet::query_point(*o, mid, 0, pc) && pc.distance < 0;
+        through = through || in;
+        through_bar = through_bar || (in && o == bar);
       }
       r.edges_through += through;
+      r.edges_through_bar += through_bar;
+      if (through && (attached[std::size_t(d.p[0])] || attached[std::size_t(d.p[1])])) ++r.edges_through_attached;
     }
     r.frames_over += over;
     Real deepest = 0;

@@ -20,6 +20,9 @@ inline constexpr Real kBarMass = 2;            // kg
 inline const Vec3 kBarHalf(0.6, 0.03, 0.03);   // m
 inline const Vec3 kBarStart(0, 1.6, 0);        // m
 inline constexpr Real kWrinkle = Real(0.001);  // m, see add_cloth
+// The cloth's particles attached to the bar (the cloth is the system's only
+// particles, so these are also their indices in the system).
+inline constexpr int kAttached[3] = {0, kN / 2, kN - 1};
 
 struct Result {
   Real deepest = 0;     // m, largest depth of a particle centre inside a body or below the ground
@@ -42,6 +45,9 @@ struct Result {
   // frames, and those of them whose midpoint is inside a body.
   int frames_over = 0;
   long edges_over = 0, edges_through = 0;
+  // Of edges_through: those through the bar, and those with an end at a
+  // particle attached to the bar.
+  long edges_through_bar = 0, edges_through_attached = 0;
 };
 
 // `bodies` random rigid bodies around the bar, from a fixed seed, each
@@ -74,10 +80,12 @@ xpbd_bullet::SystemId add_cloth(XpbdWorld& xw, btRigidBody* bar, const SystemSet
 // substeps: 0 for the default; wrinkle_seed: add_cloth's; penetration:
 // the tolerance's contact target (SystemSettings::tolerance, m, 0 = off:
 // the fixed budget); wedges: ContactSettings::wedges; surface_edges:
-// ContactSettings::surface_edge_contacts.
+// ContactSettings::surface_edge_contacts; strain: the tolerance's strain
+// target (SystemSettings::tolerance.strain, 0 = off).
 Result run(int bodies, bool cloth, int contact_sweeps = 0, bool after_solve = true, int substeps = 0,
            unsigned wrinkle_seed = 1, int frames = kFrames,
            double penetration = SystemSettings{}.tolerance.penetration, bool wedges = true,
-           bool surface_edges = xpbd_bullet::ContactSettings{}.surface_edge_contacts);
+           bool surface_edges = xpbd_bullet::ContactSettings{}.surface_edge_contacts,
+           double strain = SystemSettings{}.tolerance.strain);
 
 }  // namespace xpbd_bullet::test::squeeze

@@ -3,40 +3,71 @@
 // (squeeze_app.hpp) with 49 bodies over wrinkle seeds 1-32 at the defaults,
 // one line per seed.
 //
-//   xpbd_squeeze_campaign [--surface-edges]
+//   xpbd_squeeze_campaign [--surface-edges] [--strain S] [--seeds A-B]
 //
 // --surface-edges: ContactSettings::surface_edge_contacts on.
+// --strain S: the tolerance's strain target S (SystemSettings::tolerance.strain, > 0).
+// --seeds A-B: wrinkle seeds A to B (1 <= A <= B), or one seed: --seeds A.
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <string>
 
 #include "squeeze_app.hpp"
+
+namespace {
+
+// A whole positive number, or 0 if `s` is not one.
+unsigned parse_seed(const std::string& s) {
+  if (s.empty() || s.size() > 6 || s.find_first_not_of("0123456789") != std::string::npos) return 0;
+  return unsigned(std::stoul(s));
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace xpbd_bullet::test;
   using namespace xpbd_bullet::test::squeeze;
   bool surface_edges = xpbd_bullet::ContactSettings{}.surface_edge_contacts;
+  double strain = SystemSettings{}.tolerance.strain;
+  unsigned first = 1, last = 32;
+  const auto usage = [](const char* why, const char* arg) {
+    std::fprintf(stderr, "xpbd_squeeze_campaign: %s '%s' (usage: [--surface-edges] [--strain S] [--seeds A-B])\n", why,
+                 arg);
+    return 2;
+  };
   for (int a = 1; a < argc; ++a) {
     if (std::strcmp(argv[a], "--surface-edges") == 0) {
       surface_edges = true;
+    } else if (std::strcmp(argv[a], "--strain") == 0 && a + 1 < argc) {
+      char* end = nullptr;
+      strain = std::strtod(argv[++a], &end);
+      if (end == argv[a] || *end != '\0' || !(strain > 0) || !(strain < 1e6))
+        return usage("--strain needs a number > 0, got", argv[a]);
+    } else if (std::strcmp(argv[a], "--seeds") == 0 && a + 1 < argc) {
+      const std::string v = argv[++a];
+      const std::size_t dash = v.find('-');
+      first = parse_seed(v.substr(0, dash));
+      last = dash == std::string::npos ? first : parse_seed(v.substr(dash + 1));
+      if (first < 1 || last < first) return usage("--seeds needs A-B with 1 <= A <= B, got", argv[a]);
     } else {
-      std::fprintf(stderr, "xpbd_squeeze_campaign: unknown argument '%s' (the only one is --surface-edges)\n",
-                   argv[a]);
-      return 2;
+      return usage("unknown or incomplete argument", argv[a]);
     }
   }
-  for (unsigned seed = 1; seed <= 32; ++seed) {
+  for (unsigned seed = first; seed <= last; ++seed) {
     const Result r = run(49, true, 0, true, 0, seed, kFrames, SystemSettings{}.tolerance.penetration, true,
-                         surface_edges);
+                         surface_edges, strain);
     // The bar's mean speed over the last 100 frames (from its centre's
     // path): whether the pile has come to rest.
     double speed = 0;
     for (std::size_t f = r.bar.size() - 100; f < r.bar.size(); ++f)
       speed += double((r.bar[f] - r.bar[f - 1]).norm()) / (double(kDt) * 100);
     std::printf("seed %u: deepest %.4g mm, %d frames deep, strain %.3g, %.1f sweeps/step, finite %d exploded %d, "
-                "%d frames with an edge over 20 %%, %ld such edges, %ld of them through a body, bar speed over "
-                "the last 100 frames %.4f m/s\n",
+                "%d frames with an edge over 20 %%, %ld such edges, %ld of them through a body (%ld through the "
+                "bar, %ld at an attached particle), bar speed over the last 100 frames %.4f m/s\n",
                 seed, 1e3 * double(r.deepest), r.frames_deep, double(r.strain), r.sweeps_per_step, int(r.finite),
-                int(r.exploded), r.frames_over, r.edges_over, r.edges_through, speed);
+                int(r.exploded), r.frames_over, r.edges_over, r.edges_through, r.edges_through_bar,
+                r.edges_through_attached, speed);
   }
   return 0;
 }
