@@ -322,6 +322,8 @@ void XpbdWorld::set_settings(SystemId id, const SystemSettings& settings) {
   s.tol_substeps = 0;
   s.tol_calm = 0;
   s.tol_window_max = 0;
+  s.tol_futile_error = 0;
+  s.tol_futile_steps = 0;
   s.asleep = false;
   s.quiet = 0;
 }

@@ -333,6 +333,11 @@ struct XpbdWorld::System {
   int tol_substeps = 0;  // substeps for the next step (0: start from SystemSettings::substeps)
   int tol_calm = 0;      // steps in a row that could have taken fewer substeps
   double tol_window_max = 0;  // largest error (relative to the tolerance) over those steps
+  // A rise that did not pay (world_contacts.cpp): the error it left, and for
+  // how many more steps an error up to kTolFutileGrowth times it is not
+  // solved again.
+  double tol_futile_error = 0;
+  int tol_futile_steps = 0;
   int step_substeps = 0;  // substeps of the step being solved (settings' or the tolerance's)
   xpbd::State tol_saved;  // the state before the solve, for solving the step again
 };

@@ -199,6 +199,10 @@ struct SystemTimes {
 //     the step starts with into velocity at the shorter substep);
 //   - at the cap above the tolerance, the step is kept and reported
 //     (SystemHealth::tolerance_met = false, StepStats::tolerance_missed);
+//     so is a step whose rise did not pay (its error at n' still above 1 and
+//     no lower than at n): solved at n again, and for the next 15 steps an
+//     error up to 1.5 times that one is not solved again (what does not
+//     fall with substeps is not an error they remove; docs/tolerance.md);
 //   - downwards, only after 15 steps in a row (0.25 s at 60 Hz) at one count
 //     whose largest e says fewer would reach 70 % of the tolerance (taking
 //     e as 1/n, a cautious guess): then by at most a fifth (at least one),
