@@ -202,12 +202,14 @@ RunOutput run_one(const SceneSpec& spec, const ExpandedSoft& soft, const RunOpti
   return out;
 }
 
-// "0.05 strain", "1 mm penetration", or both joined by "and".
+// "0.05 strain" (or "0.05 residual strain"), "1 mm penetration", or both
+// joined by "and".
 std::string tolerance_text(const RunOptions& o) {
   char buf[96];
   std::string t;
   if (o.tolerance > 0) {
-    std::snprintf(buf, sizeof buf, "%.3g strain", o.tolerance);
+    std::snprintf(buf, sizeof buf, "%.3g %sstrain", o.tolerance,
+                  o.tolerance_measure == ToleranceMeasure::residual ? "residual " : "");
     t = buf;
   }
   if (o.penetration_tolerance > 0) {

@@ -87,6 +87,7 @@ nlohmann::json to_json(const RunResult& r) {
   if (r.forces) j["forces"] = forces_json(*r.forces);
   if (r.options.tolerance_on())
     j["tolerance"] = {{"strain", r.options.tolerance},
+                      {"measure", r.options.tolerance_measure == ToleranceMeasure::residual ? "residual" : "strain"},
                       {"penetration", r.options.penetration_tolerance},
                       {"max_substeps", r.options.max_substeps},
                       {"mean_substeps", r.mean_substeps},

@@ -74,6 +74,7 @@ SolverSpec read_solver(const Ctx& c, const json& v, const std::string& path) {
   c.require(s.max_strain > 0, o.at("max_strain"), "must be > 0, got " + num(s.max_strain));
   o.number("tolerance", s.tolerance);
   c.require(s.tolerance >= 0, o.at("tolerance"), "must be >= 0, got " + num(s.tolerance));
+  o.enumeration("tolerance_measure", s.tolerance_measure, kToleranceMeasures);
   o.number("penetration_tolerance", s.penetration_tolerance);
   c.require(s.penetration_tolerance >= 0, o.at("penetration_tolerance"),
             "must be >= 0, got " + num(s.penetration_tolerance));

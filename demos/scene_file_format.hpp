@@ -35,6 +35,8 @@ struct EnumName {
 
 inline constexpr EnumName<Solver> kSolvers[] = {
     {"xpbd", Solver::xpbd}, {"pbd", Solver::pbd}, {"bullet", Solver::bullet}};
+inline constexpr EnumName<ToleranceMeasure> kToleranceMeasures[] = {{"strain", ToleranceMeasure::strain},
+                                                                  {"residual", ToleranceMeasure::residual}};
 inline constexpr EnumName<xpbd::HingeBending> kHinge[] = {{"none", xpbd::HingeBending::none},
                                                    {"dihedral", xpbd::HingeBending::dihedral},
                                                    {"isometric", xpbd::HingeBending::isometric}};
@@ -132,7 +134,7 @@ using Keys = std::initializer_list<const char*>;
 inline constexpr Keys kTopKeys{"name", "description", "solver", "soft", "bodies", "attachments"};
 inline constexpr Keys kSolverKeys{"method", "dt", "substeps", "iterations", "frames", "drag", "alternate_sweeps",
                            "coloured", "direct_chains", "chain_passes", "chain_tolerance", "hierarchy", "hierarchy_slack", "gravity", "bullet_kLST", "max_strain",
-                           "tolerance", "penetration_tolerance", "max_substeps"};
+                           "tolerance", "tolerance_measure", "penetration_tolerance", "max_substeps"};
 inline constexpr Keys kSoftKeys{"particles", "generators", "contacts", "distances", "collisions", "pins", "planes",
                      "penetrations", "dihedral_bends", "isometric_bends", "tets", "tethers",
                      "global_volumes", "self_collision", "collision_triangles"};

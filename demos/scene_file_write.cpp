@@ -357,6 +357,7 @@ json to_json(const SceneSpec& s) {
                  {"bullet_kLST", out_real(v.bullet_kLST)},
                  {"max_strain", v.max_strain},
                  {"tolerance", v.tolerance},
+                 {"tolerance_measure", enum_name(kToleranceMeasures, v.tolerance_measure)},
                  {"penetration_tolerance", v.penetration_tolerance},
                  {"max_substeps", v.max_substeps}};
   j["soft"] = out_soft(s.soft);

@@ -78,6 +78,8 @@ void validate_options(const RunOptions& o, const SceneSpec& spec) {
   if (!(o.penetration_tolerance >= 0) || !std::isfinite(o.penetration_tolerance))
     fail("penetration_tolerance", "must be finite and >= 0 (m, 0 = off), got " + num(o.penetration_tolerance));
   if (o.max_substeps < 1) fail("max_substeps", "must be >= 1, got " + std::to_string(o.max_substeps));
+  if (o.tolerance_measure == ToleranceMeasure::residual && o.solver == Solver::pbd)
+    fail("tolerance_measure", "\"residual\" needs method xpbd (PBD's multipliers are not XPBD's), got method pbd");
 }
 
 void validate_contacts(const SoftContactSpec& c) {
@@ -340,6 +342,7 @@ RunOptions run_options(const SceneSpec& spec) {
   o.health.max_strain = spec.solver.max_strain;
   o.tolerance = spec.solver.tolerance;
   o.penetration_tolerance = spec.solver.penetration_tolerance;
+  o.tolerance_measure = spec.solver.tolerance_measure;
   o.max_substeps = spec.solver.max_substeps;
   return o;
 }

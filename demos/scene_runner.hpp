@@ -77,6 +77,7 @@ struct RunOptions {
   // either > 0, `substeps` is where the count starts, and the run picks it
   // frame by frame.
   double tolerance = 0;              // largest strain
+  ToleranceMeasure tolerance_measure = ToleranceMeasure::strain;  // what `tolerance` measures
   double penetration_tolerance = 0;  // m, deepest contact violation
   int max_substeps = 200;
   bool tolerance_on() const { return tolerance > 0 || penetration_tolerance > 0; }

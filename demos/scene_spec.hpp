@@ -32,6 +32,8 @@ namespace xpbd_demos {
 // ---------------------------------------------------------------------------
 // Solver settings (command-line options override them).
 enum class Solver { xpbd, pbd, bullet };
+// What solver.tolerance measures (SolverSpec::tolerance_measure).
+enum class ToleranceMeasure { strain, residual };
 
 struct SolverSpec {
   Solver method = Solver::xpbd;
@@ -67,6 +69,11 @@ struct SolverSpec {
   // largest Distance strain stays within it, starting from `substeps`, at
   // most max_substeps. 0 = off (`substeps` fixed).
   double tolerance = 0;
+  // What `tolerance` measures (xpbd_bullet::StrainMeasure): the strain, or
+  // (XPBD only) the residual of the Distance elements' XPBD equation over
+  // the rest length, the stretch their compliance and damping do not explain
+  // (docs/tolerance.md).
+  ToleranceMeasure tolerance_measure = ToleranceMeasure::strain;
   // m, the same for the deepest contact violation (how far a particle is
   // inside the contact band of its thickness; xpbd_bullet::Tolerance::
   // penetration). 0 = off; with both set, the run meets both.

@@ -99,6 +99,8 @@ class XpbdSim : public SoftSim {
     s.contacts.edge_contacts = c.edge_contacts;
     s.contacts.surface_edge_contacts = c.surface_edges;
     s.tolerance.strain = opt.tolerance;
+    s.tolerance.measure = opt.tolerance_measure == ToleranceMeasure::residual ? xpbd_bullet::StrainMeasure::residual
+                                                                             : xpbd_bullet::StrainMeasure::total;
     s.tolerance.penetration = opt.penetration_tolerance;
     s.tolerance.max_substeps = opt.max_substeps;
     timing_ = opt.stage_times;

@@ -2,7 +2,8 @@
 // strain (measured by the runner from the positions) stays within it after
 // the first frames, the substeps rise above the start, metrics.json reports
 // them, and btSoftBody says it does not use it; the built-in scene with a
-// penetration target stays within it.
+// penetration target stays within it; the residual measure leaves a soft
+// chain its stretch.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -62,6 +63,55 @@ TEST(RunTolerance, EveryFrameWithinTheToleranceAfterTheFirst) {
 // solver.penetration_tolerance alone turns the target on: the frames report
 // their substeps and metrics.json the target. The chain touches nothing, so
 // it meets the target at its starting count (it never has a contact).
+// solver.tolerance_measure "residual": a soft chain (10 links of 0.1 m at
+// 3e-3 m/N, 10 g particles, a 1 kg end) hanging at its static stretch
+// (0.29-0.32, alpha T / rest) keeps it with a 2 % target and reports no
+// frame, where the strain measure reports every frame; metrics.json names
+// the measure; PBD is refused with the field named.
+SceneSpec soft_chain(ToleranceMeasure measure) {
+  SceneSpec s;
+  s.name = "soft_chain";
+  s.solver.tolerance = 0.02;
+  s.solver.tolerance_measure = measure;
+  s.solver.max_substeps = 40;
+  s.solver.frames = 30;
+  auto& d = s.soft.particles;
+  const int n = 11;
+  const Real alpha = Real(3e-3), g = Real(9.81), rest = Real(0.1);
+  Real y = 1;
+  for (int k = 0; k < n; ++k) {
+    d.add_particle(Vec3(0, y, 0), k == 0 ? Real(0) : k == n - 1 ? Real(1) : Real(0.01));
+    y -= rest + alpha * g * (Real(1) + Real(n - 2 - k) * Real(0.01));
+  }
+  xpbd::Material mat;
+  mat.compliance = alpha;
+  for (int k = 0; k + 1 < n; ++k) d.distances.push_back(xpbd::DistanceDesc{k, k + 1, rest, mat});
+  return s;
+}
+
+TEST(RunTolerance, ResidualMeasureLetsASoftChainKeepItsStretch) {
+  const SceneSpec strain = soft_chain(ToleranceMeasure::strain);
+  const RunResult a = run_scene(strain, run_options(strain));
+  EXPECT_EQ(a.frames_tolerance_missed, 30);
+  EXPECT_EQ(a.max_substeps_used, 40);
+  const SceneSpec residual = soft_chain(ToleranceMeasure::residual);
+  const RunResult b = run_scene(residual, run_options(residual));
+  EXPECT_EQ(b.frames_tolerance_missed, 0);
+  EXPECT_LT(b.max_substeps_used, 40);
+  // The chain keeps its static stretch: the top link alpha g 1.09 kg / rest.
+  EXPECT_NEAR(b.max_strain, 3e-3 * 9.81 * 1.09 / 0.1, 2 * 0.02);
+  EXPECT_EQ(to_json(b).at("tolerance").at("measure"), "residual");
+  EXPECT_EQ(to_json(a).at("tolerance").at("measure"), "strain");
+  SceneSpec pbd = residual;
+  pbd.solver.method = Solver::pbd;
+  try {
+    (void)run_scene(pbd, run_options(pbd));
+    ADD_FAILURE() << "PBD with the residual measure ran";
+  } catch (const xpbd::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("solver.tolerance_measure"), std::string::npos) << e.what();
+  }
+}
+
 TEST(RunTolerance, PenetrationAloneIsATarget) {
   SceneSpec spec = heavy_chain(0);
   spec.solver.penetration_tolerance = 1e-3;

@@ -146,6 +146,7 @@ inline SceneSpec round_trip(const SceneSpec& s) {
   EXPECT_EQ(back.solver.bullet_kLST, s.solver.bullet_kLST);
   EXPECT_EQ(back.solver.max_strain, s.solver.max_strain);
   EXPECT_EQ(back.solver.tolerance, s.solver.tolerance);
+  EXPECT_EQ(back.solver.tolerance_measure, s.solver.tolerance_measure);
   EXPECT_EQ(back.solver.penetration_tolerance, s.solver.penetration_tolerance);
   EXPECT_EQ(back.solver.max_substeps, s.solver.max_substeps);
   const SoftContactSpec &c0 = s.soft.contacts, &c1 = back.soft.contacts;
