@@ -181,8 +181,7 @@ System soft_chain() {
 // The strain target with a 2 % tolerance on that chain, for 2 s (about
 // two periods of the heavy end on the chain's spring). Measured as the
 // strain (StrainMeasure::total), the compliance's own 29-32 % cannot be
-// reached with any count: every step is solved again up to the cap and
-// reported. Measured as the residual (StrainMeasure::residual), the
+// reached with any count: every step is reported. Measured as the residual (StrainMeasure::residual), the
 // stretch the compliance explains is not error: no step is reported, and
 // every link stays within twice the tolerance of its static stretch
 // (measured: 0.029 at most, where the fixed 10 substeps drift 0.056 from
@@ -224,7 +223,6 @@ TEST(WorldTolerance, ResidualMeasureLetsASoftChainKeepItsStretch) {
               "missed, most %d substeps, drift from the static stretch %.3g; fixed 10 substeps: drift %.3g\n",
               total.r.missed, total.r.most, residual.r.missed, residual.r.most, residual.drift, fixed.drift);
   EXPECT_EQ(total.r.missed, 120);
-  EXPECT_EQ(total.r.most, 40);
   EXPECT_EQ(residual.r.missed, 0);
   EXPECT_GT(residual.r.most, 10);  // the fixed count drifts too far: it had to rise
   EXPECT_LT(residual.r.most, 40);

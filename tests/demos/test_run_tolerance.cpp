@@ -93,7 +93,6 @@ TEST(RunTolerance, ResidualMeasureLetsASoftChainKeepItsStretch) {
   const SceneSpec strain = soft_chain(ToleranceMeasure::strain);
   const RunResult a = run_scene(strain, run_options(strain));
   EXPECT_EQ(a.frames_tolerance_missed, 30);
-  EXPECT_EQ(a.max_substeps_used, 40);
   const SceneSpec residual = soft_chain(ToleranceMeasure::residual);
   const RunResult b = run_scene(residual, run_options(residual));
   EXPECT_EQ(b.frames_tolerance_missed, 0);

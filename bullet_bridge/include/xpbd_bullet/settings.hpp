@@ -200,7 +200,7 @@ struct SystemTimes {
 //   - at the cap above the tolerance, the step is kept and reported
 //     (SystemHealth::tolerance_met = false, StepStats::tolerance_missed);
 //     so is a step whose rise did not pay (its error at n' still above 1 and
-//     no lower than at n): solved at n again, and for the next 15 steps an
+//     not below e_n (n / n')^0.05): solved at n again, and for the next 15 steps an
 //     error up to 1.5 times that one is not solved again (what does not
 //     fall with substeps is not an error they remove; docs/tolerance.md);
 //   - downwards, only after 15 steps in a row (0.25 s at 60 Hz) at one count
