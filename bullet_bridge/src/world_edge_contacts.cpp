@@ -161,7 +161,8 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
   const auto& tris = m.collision_triangles;
   // Without collision triangles: the surface triangles' edges at the
   // particles the culling found near the body (every particle without the
-  // culling), none at or next to a particle attached to it.
+  // culling); those at or next to a particle attached to it with no
+  // thickness (below).
   const bool surface = tris.empty();
   if (surface ? s.tri_edges.size() != m.surface_triangles.size()
               : (s.tri_edges.size() != tris.size() || tri_lo_.size() != tris.size()))
@@ -191,7 +192,13 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
     const bool has_attached = std::any_of(attachments_.begin(), attachments_.end(), [&](const Attachment& a) {
       return a.system == s.id && a.body == cand.obj;
     });
-    // Held: a particle attached to the body, or one edge from it.
+    // Held: a particle attached to the body, or one edge from it. The
+    // attachment keeps such a particle on the body's face, inside the
+    // thickness, and the cloth around it lies along the face (a tarp
+    // fastened under a crate): a soft edge there is held out of the body
+    // with no thickness, so that it does not pass through the body's edge
+    // (a cloth hanging from a bar wrapped around the bar's long edge:
+    // docs/squeeze.md) and does not lift the body off the particles either.
     const auto held = [&](Index p) {
       if (attached(s, cand.obj, p)) return true;
       for (int q = s.edge_begin[std::size_t(p)]; q < s.edge_begin[std::size_t(p) + 1]; ++q) {
@@ -201,7 +208,7 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
       return false;
     };
     // The edges with a movable end whose box (soft_edge_box) meets the
-    // candidate's, none held, in ascending order: from the culled
+    // candidate's, in ascending order, each as 2 e + held: from the culled
     // particles' edges (the culling's half sizes hold each particle's
     // edges' boxes, detail::widen_for_edges), or from every edge. The
     // same edges either way.
@@ -210,8 +217,7 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
       if (m.inv_mass[p0] == Real(0) && m.inv_mass[p1] == Real(0)) return;
       const detail::Box eb = detail::soft_edge_box(m, st, p0, p1, dt, cs.thickness, cs.margin);
       if ((eb.lo.array() > cand.box.hi.array()).any() || (eb.hi.array() < cand.box.lo.array()).any()) return;
-      if (has_attached && (held(p0) || held(p1))) return;
-      fs.near_edges.push_back(e);
+      fs.near_edges.push_back(2 * e + int(has_attached && (held(p0) || held(p1))));
     };
     fs.near_edges.clear();
     if (cs.cull) {
@@ -259,7 +265,9 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
                         : kEdgeContacts;
     // The pair (box edge, soft edge e): a contact if the two lines' closest
     // points lie on both edges, near enough, on a side that leans outwards.
-    const auto test = [&](const int e) {
+    // held: a soft edge at or next to a particle attached to the body,
+    // kept out with no thickness (above).
+    const auto test = [&](const int e, bool held = false) {
       const auto [p0, p1] = s.soft_edges[std::size_t(e)];
       const Vec3 P = st.x[p0], es = st.x[p1] - P;
       const Vec3 nn = er.cross(es);
@@ -289,7 +297,7 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
       c.b = b;
       c.p = {p0, p1};
       c.out = outward;
-      c.thickness = thick;
+      c.thickness = held ? std::max({m.radius[p0], m.radius[p1], Real(0)}) : thick;
       c.reach = cs.margin;
       c.closing_speed = move / dt;
       c.static_friction = cs.static_friction * cand.obj->getFriction();
@@ -299,12 +307,13 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
     if (surface) {
       // The soft edge's box over the step, grown by its thickness and
       // margin, against the box edge's.
-      for (const int e : fs.near_edges) {
+      for (const int coded : fs.near_edges) {
         if (found == cap) break;
+        const int e = coded / 2;
         const auto [p0, p1] = s.soft_edges[std::size_t(e)];
         const detail::Box eb = detail::soft_edge_box(m, st, p0, p1, dt, cs.thickness, cs.margin);
         if ((lo.array() > eb.hi.array()).any() || (hi.array() < eb.lo.array()).any()) continue;
-        test(e);
+        test(e, (coded & 1) != 0);
       }
       continue;
     }

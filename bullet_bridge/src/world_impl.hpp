@@ -212,7 +212,7 @@ struct XpbdWorld::FeatureScratch {
   std::vector<int> all_tris;                   // every triangle, ascending (without the hierarchy)
   std::vector<int> edge_tris;                  // positions in body_tris whose box meets a box edge's
   std::vector<unsigned> edge_stamp;            // per soft edge: the last rigid edge that tested it
-  std::vector<int> near_edges;                 // surface edges near the body, ascending
+  std::vector<int> near_edges;                 // surface edges e near the body as 2 e + held, ascending
   unsigned stamp = 0;
 };
 

@@ -8,6 +8,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <utility>
+#include <vector>
 
 #include "support.hpp"
 
@@ -85,8 +88,14 @@ TEST(WorldAttachContacts, AttachedParticleIsNotPushedOffItsBody) {
 // particles' joint contact solve (xpbd/src/contact_block.cpp).
 class WorldAttachOnGround : public ::testing::TestWithParam<int> {};
 
-TEST_P(WorldAttachOnGround, BoxRestsOnTheParticlesAttachedUnderIt) {
-  const Real mass = Real(GetParam());  // kg
+// With ContactSettings::surface_edge_contacts too: the cloth's edges at and
+// next to the attached particles cross the box's bottom edges in the plane
+// of its bottom face, and get edge contacts with the box with no thickness
+// (world_edge_contacts.cpp), which do not lift it. (With the thickness, the
+// box was lifted by 4 mm; it then got none.)
+void box_rests_on_attached_particles(Real mass, bool surface_edges) {
+  SystemSettings settings;
+  settings.contacts.surface_edge_contacts = surface_edges;
   BulletWorld bw;
   bw.add_body(new btStaticPlaneShape(btVector3(0, 1, 0), 0), 0, BulletWorld::at(Vec3::Zero()));
   const Real t = xpbd_bullet::ContactSettings{}.thickness;
@@ -95,7 +104,7 @@ TEST_P(WorldAttachOnGround, BoxRestsOnTheParticlesAttachedUnderIt) {
   btRigidBody* box = bw.add_body(new btBoxShape(bt(half)), mass, BulletWorld::at(centre));
   XpbdWorld xw(bw.world());
   System sys = lying_cloth(1, 1, t);
-  const auto id = xw.add_system(sys.model, sys.state, SystemSettings{});
+  const auto id = xw.add_system(sys.model, sys.state, settings);
   int attached = 0;
   for (Index i = 0; i < sys.model->num_particles(); ++i) {
     const Vec3 x = sys.model->x0[std::size_t(i)];
@@ -113,10 +122,77 @@ TEST_P(WorldAttachOnGround, BoxRestsOnTheParticlesAttachedUnderIt) {
   }
   for (const Vec3& x : xw.state(id).x) EXPECT_GE(x.y(), t - Real(1e-4));
   // 1 % of the thickness: the solve's residual (measured 0.011-0.013 mm).
-  EXPECT_LE(worst, Real(0.01) * t) << mass << " kg";
+  EXPECT_LE(worst, Real(0.01) * t) << mass << " kg, surface edges " << surface_edges;
+  if (surface_edges) {
+    EXPECT_FALSE(xw.state(id).edge_contacts.empty()) << "no edge contact: the case is not tested";
+  }
+}
+
+TEST_P(WorldAttachOnGround, BoxRestsOnTheParticlesAttachedUnderIt) {
+  box_rests_on_attached_particles(Real(GetParam()), false);
+  box_rests_on_attached_particles(Real(GetParam()), true);
 }
 
 INSTANTIATE_TEST_SUITE_P(Mass, WorldAttachOnGround, ::testing::Values(2, 20));
+
+// A cloth corner fastened on a bar and falling over the bar's edge: one
+// triangle (no collision triangles), its particle 0 attached to the centre
+// of a static bar's top face (half extents 0.3 x 0.03 x 0.03 m), its
+// particles 1 and 2 (x = -+2 cm) just above the top face's level beyond
+// the bar's side (z = 0.04). They fall. The particle contacts keep
+// particles out of the bar, not edges: without edge contacts the two come
+// to rest on the side face, 2 cm below the top, and the edges 0-1 and 0-2
+// cut 1 cm deep through the bar's top edge (y = z = 0.03). With surface edge
+// contacts those edges, at a particle attached to the bar, get contacts
+// with the bar's edges with no thickness (world_edge_contacts.cpp) and stay
+// clear of the bar, at their rest length, particle 0 at its attachment.
+// (Before, edges at an attached particle got no contact with its body: in
+// the squeeze application the cloth wrapped round its bar with edges
+// through it; docs/squeeze.md.)
+TEST(WorldAttachContacts, EdgesAtAnAttachedParticleAreKeptOutOfItsBody) {
+  const Vec3 half(Real(0.3), Real(0.03), Real(0.03));
+  const auto run = [&](bool surface_edges) {
+    BulletWorld bw;
+    btRigidBody* bar = bw.add_body(new btBoxShape(bt(half)), 0, BulletWorld::at(Vec3::Zero()));
+    XpbdWorld xw(bw.world());
+    xpbd::SceneDesc scene;
+    scene.add_particle(Vec3(0, half.y(), 0), Real(0.01));
+    scene.add_particle(Vec3(Real(-0.02), half.y() + Real(0.001), Real(0.04)), Real(0.01));
+    scene.add_particle(Vec3(Real(0.02), half.y() + Real(0.001), Real(0.04)), Real(0.01));
+    for (auto [a, b] : {std::pair{0, 1}, std::pair{0, 2}, std::pair{1, 2}})
+      scene.distances.push_back(xpbd::DistanceDesc{a, b, std::nullopt, {}});
+    scene.surface_triangles = {{0, 1, 2}};
+    System sys = make_system(scene);
+    SystemSettings set;
+    set.contacts.surface_edge_contacts = surface_edges;
+    const auto id = xw.add_system(sys.model, sys.state, set);
+    xw.attach(id, 0, bar, btVector3(0, btScalar(half.y()), 0));
+    for (int f = 0; f < 60; ++f) bw.step();
+    return xw.state(id).x;
+  };
+  // The deepest point of edge 0-k inside the bar (> 0: inside), sampled.
+  const auto depth = [&](const std::vector<Vec3>& x, int k) {
+    Real worst = -1;
+    for (int i = 1; i < 20; ++i) {
+      const Vec3 p = x[0] + (x[std::size_t(k)] - x[0]) * (Real(i) / 20);
+      worst = std::max(worst, (half - p.cwiseAbs()).minCoeff());
+    }
+    return worst;
+  };
+  const std::vector<Vec3> off = run(false), on = run(true);
+  std::printf("edges at an attached particle: without surface edges the deepest points %.4g, %.4g m inside the bar; "
+              "with them %.4g, %.4g m (particle 1 at y %.4g, z %.4g)\n",
+              double(depth(off, 1)), double(depth(off, 2)), double(depth(on, 1)), double(depth(on, 2)),
+              double(on[1].y()), double(on[1].z()));
+  EXPECT_GT(depth(off, 1), Real(0.005));  // the control: through the bar
+  EXPECT_GT(depth(off, 2), Real(0.005));
+  const Real rest = std::sqrt(Real(0.02 * 0.02 + 0.04 * 0.04 + 0.001 * 0.001));
+  for (int k : {1, 2}) {
+    EXPECT_LE(depth(on, k), Real(1e-4)) << "edge 0-" << k;
+    EXPECT_NEAR((on[std::size_t(k)] - on[0]).norm(), rest, Real(1e-3)) << "edge 0-" << k << " at its rest length";
+  }
+  EXPECT_NEAR((on[0] - Vec3(0, half.y(), 0)).norm(), 0, Real(1e-4));  // still at its attachment
+}
 
 }  // namespace XPBD_TEST_FILE_ID
 }  // namespace

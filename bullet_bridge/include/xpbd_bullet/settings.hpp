@@ -75,18 +75,21 @@ struct ContactSettings {
   // out of a body, not the edges between them: a cloth pressed over a box's
   // corner cut it with the edge between a particle on each face. The soft
   // edges tested are those whose box over the step meets the box's (the
-  // same with and without `cull`); none at a particle attached to that box
-  // or next to one (the box is held there by the attachments). After each
-  // edge contact's push, its two particles' own contacts' friction is
-  // solved again. In double it helps: in the bar squeeze of docs/squeeze.md
-  // (32 runs) the frames with a cloth edge stretched over 20 % fell from
-  // 12,572 to 7,905 and such edges through a body from 57,269 to 12,068; a
-  // 1000 kg box landing on its edge on a cloth on the ground stretched it
-  // by 0.04 and 0.06 (tilted 0.3 and 0.6 rad) with it, 0.07 and 0.15
-  // without. Off by default: in float, 3 of the same 32 runs threw the bar
-  // off (16 m/s in the one traced) and stretched the cloth by 21-37 (none
-  // without it), and a box resting under a cloth at 100 substeps sank
-  // 1.5 mm in one step (docs/squeeze.md, "Not on by default yet").
+  // same with and without `cull`); those at a particle attached to that box
+  // or next to one are kept out of it with no thickness (the attachment
+  // holds such a particle on the box's face: the cloth there lies along the
+  // face, and a thickness would lift the box off it). After each edge
+  // contact's push, its two particles' own contacts' friction is solved
+  // again. It helps: in the bar squeeze of docs/squeeze.md (32 runs,
+  // 2026-11-29) the frames with a cloth edge stretched over 20 % fell from
+  // 12,312 to 6,174 in double, and such edges through a body from 50,622 to
+  // 4,545; a 1000 kg box landing on its edge on a cloth on the ground
+  // stretched it by 0.04 and 0.06 (tilted 0.3 and 0.6 rad) with it, 0.07
+  // and 0.15 without. Off by default: one run of the 32 left a particle 8.9
+  // mm (double) or 12.3 mm (float) inside a body, where the defaults leave
+  // none; on 2026-11-28 in float, 3 of the 32 runs threw the bar off, and a
+  // box resting under a cloth at 100 substeps sank 1.5 mm in one step
+  // (docs/squeeze.md, "Not on by default yet").
   bool surface_edge_contacts = false;
   // From this many collision_triangles on (>= 0), the rigid features are
   // matched with the triangles through a bounding volume hierarchy of the
