@@ -201,7 +201,8 @@ constexpr int kTolCalmSteps = 15;
 // to (n / n')^3.6 per rise, much of it inherited from earlier steps), so
 // little is asked: a fall of 5 % for a rise of 3 times. A smaller fall is
 // round-off's to give or take (the soft chain's strain, which its
-// compliance sets, went up or down by a hair between builds). What does
+// compliance sets: when any fall counted, its count went to the cap in the
+// Release build and stopped a rise earlier in the sanitizer build). What does
 // not fall (a link held stretched by a contact, an edge held around a
 // body's corner by an attachment) is not an error more substeps remove:
 // they only shorten the substep, and a stiff constraint that cannot be met
