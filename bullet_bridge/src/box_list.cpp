@@ -14,22 +14,35 @@ using xpbd::Vec3;
 
 namespace {
 constexpr std::size_t kLanes = 4;  // the padding: a whole number of lanes in either precision
+
+// Box i of the list is [lo[at(i)], hi[at(i)]], i < count.
+template <class At>
+void fill(std::vector<Real> (&coords)[6], std::size_t count, const std::vector<Vec3>& lo, const std::vector<Vec3>& hi,
+          At at) {
+  const std::size_t padded = (count + kLanes - 1) / kLanes * kLanes;
+  for (auto& c : coords) c.resize(padded);
+  for (std::size_t i = 0; i < count; ++i) {
+    const Vec3& l = lo[at(i)];
+    const Vec3& h = hi[at(i)];
+    for (int k = 0; k < 3; ++k) {
+      coords[k][i] = l[k];
+      coords[3 + k][i] = h[k];
+    }
+  }
+  for (auto& c : coords)
+    for (std::size_t i = count; i < padded; ++i) c[i] = std::numeric_limits<Real>::quiet_NaN();
+}
+
 }  // namespace
 
 void BoxList::assign(const std::vector<int>& tris, const std::vector<Vec3>& lo, const std::vector<Vec3>& hi) {
   count_ = tris.size();
-  const std::size_t padded = (count_ + kLanes - 1) / kLanes * kLanes;
-  for (auto& c : coords_) c.resize(padded);
-  for (std::size_t i = 0; i < count_; ++i) {
-    const Vec3& l = lo[std::size_t(tris[i])];
-    const Vec3& h = hi[std::size_t(tris[i])];
-    for (int k = 0; k < 3; ++k) {
-      coords_[k][i] = l[k];
-      coords_[3 + k][i] = h[k];
-    }
-  }
-  for (auto& c : coords_)
-    for (std::size_t i = count_; i < padded; ++i) c[i] = std::numeric_limits<Real>::quiet_NaN();
+  fill(coords_, count_, lo, hi, [&tris](std::size_t i) { return std::size_t(tris[i]); });
+}
+
+void BoxList::assign(const std::vector<Vec3>& lo, const std::vector<Vec3>& hi) {
+  count_ = lo.size();
+  fill(coords_, count_, lo, hi, [](std::size_t i) { return i; });
 }
 
 void BoxList::overlapping(const Vec3& lo, const Vec3& hi, std::vector<int>& out) const {

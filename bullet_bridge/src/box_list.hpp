@@ -1,8 +1,8 @@
 #pragma once
 // The boxes of a list of triangles, stored by coordinate, for testing many
 // of them against one box at a time: the rigid features' and box edges'
-// search among the triangles near one body (world_triangle_contacts.cpp,
-// world_edge_contacts.cpp). With SSE2 (every x86-64 CPU), two boxes per
+// search among the triangles near one body (world_triangle_contacts.cpp),
+// and the box edges' among the soft edges near it (world_edge_contacts.cpp). With SSE2 (every x86-64 CPU), two boxes per
 // comparison in double and four in float; elsewhere one at a time, with the
 // same result.
 #include <vector>
@@ -15,6 +15,8 @@ class BoxList {
  public:
   // Takes the boxes [lo[t], hi[t]] of the triangles `tris`, in that order.
   void assign(const std::vector<int>& tris, const std::vector<xpbd::Vec3>& lo, const std::vector<xpbd::Vec3>& hi);
+  // Takes the boxes [lo[i], hi[i]], all of them, in that order.
+  void assign(const std::vector<xpbd::Vec3>& lo, const std::vector<xpbd::Vec3>& hi);
   std::size_t size() const { return count_; }
   // Appends to out, in ascending order, the positions in the list given to
   // assign() of the boxes that overlap [lo, hi]: lo <= hi[t] and

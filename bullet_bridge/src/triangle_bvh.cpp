@@ -3,6 +3,7 @@
 #include "triangle_bvh.hpp"
 
 #include <algorithm>
+#include <bit>
 
 #include "xpbd/workers.hpp"
 
@@ -161,12 +162,22 @@ void TriangleBvh::update(const std::vector<std::array<xpbd::Index, 3>>& tris, co
 }
 
 void TriangleBvh::query(const xpbd::Vec3& lo, const xpbd::Vec3& hi, std::vector<int>& out) const {
+  std::vector<std::uint64_t> marks;
+  query(lo, hi, out, marks);
+}
+
+void TriangleBvh::query(const xpbd::Vec3& lo, const xpbd::Vec3& hi, std::vector<int>& out,
+                        std::vector<std::uint64_t>& marks) const {
   const Impl& m = *impl_;
   // The query's box rounded as the nodes' (to_float).
   const Box3f a = to_float(lo), b = to_float(hi);
-  const std::size_t first = out.size();
+  if (marks.size() < (m.tris.size() + 63) / 64) marks.resize((m.tris.size() + 63) / 64, 0);
   // Depth first without a stack: a node whose box misses the query's skips
-  // its subtree.
+  // its subtree. Each triangle found is marked (one bit), then the marks
+  // are read in ascending order and cleared: on a cloth, the triangles near
+  // one body lie in a few rows, a few words of marks; a sort of the same
+  // triangles took as long as the walk.
+  std::size_t first = marks.size(), last = 0;
   const std::size_t count = m.nodes.size();
   for (std::size_t i = 0; i < count;) {
     const Node& node = m.nodes[i];
@@ -174,10 +185,23 @@ void TriangleBvh::query(const xpbd::Vec3& lo, const xpbd::Vec3& hi, std::vector<
       i = std::size_t(node.escape);
       continue;
     }
-    if (node.tri >= 0) out.push_back(node.tri);
+    if (node.tri >= 0) {
+      const std::size_t w = std::size_t(node.tri) >> 6;
+      marks[w] |= std::uint64_t(1) << (unsigned(node.tri) & 63u);
+      first = std::min(first, w);
+      last = std::max(last, w);
+    }
     ++i;
   }
-  std::sort(out.begin() + std::ptrdiff_t(first), out.end());
+  if (first > last) return;
+  std::size_t found = 0;
+  for (std::size_t w = first; w <= last; ++w) found += std::size_t(std::popcount(marks[w]));
+  out.reserve(out.size() + found);  // the marks are cleared below, which must not throw
+  for (std::size_t w = first; w <= last; ++w) {
+    for (std::uint64_t bits = marks[w]; bits != 0; bits &= bits - 1)
+      out.push_back(int(w * 64 + std::size_t(std::countr_zero(bits))));
+    marks[w] = 0;
+  }
 }
 
 }  // namespace xpbd_bullet::detail

@@ -16,6 +16,7 @@
 // then applies its own exact tests, so the hierarchy only removes triangles
 // that cannot pass them. FCL's types stay in triangle_bvh.cpp.
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -45,6 +46,10 @@ class TriangleBvh {
   // [lo, hi], and perhaps some whose box only comes within single
   // precision's rounding of it (the callers' exact tests drop those).
   void query(const xpbd::Vec3& lo, const xpbd::Vec3& hi, std::vector<int>& out) const;
+  // The same, with the caller's scratch: marks holds zeros before and after
+  // the call (one bit per triangle; sized here). One per thread.
+  void query(const xpbd::Vec3& lo, const xpbd::Vec3& hi, std::vector<int>& out,
+             std::vector<std::uint64_t>& marks) const;
 
  private:
   struct Impl;

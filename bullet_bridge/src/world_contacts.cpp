@@ -323,7 +323,7 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
         std::any_of(sc.candidates.begin(), sc.candidates.end(),
                     [](const detail::Candidate& c) { return detail::has_box_edges(*c.obj->getCollisionShape()); });
     if (surface_edges && s.tri_edges.size() != m.surface_triangles.size())
-      detail::surface_edges(m, s.soft_edges, s.tri_edges, s.edge_begin, s.edges_at);
+      detail::surface_edges(m, s.soft_edges, s.tri_edges, s.tri_owns, s.edge_begin, s.edges_at);
     if (cs.cull && !sc.candidates.empty()) {  // no candidate: no pair to find, nothing reads them
       sc.half.resize(std::size_t(n));
       for (Index i = 0; i < n; ++i)

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <vector>
 
@@ -71,7 +72,7 @@ namespace detail {
 
 // Declared in world_impl.hpp.
 void find_soft_edges(const std::vector<std::array<xpbd::Index, 3>>& tris, std::vector<std::array<xpbd::Index, 2>>& edges,
-                     std::vector<std::array<int, 3>>& tri_edges) {
+                     std::vector<std::array<int, 3>>& tri_edges, std::vector<std::uint8_t>& tri_owns) {
   // Each edge as (lower, upper, triangle, side), sorted: equal edges meet.
   struct Key {
     xpbd::Index lo, hi;
@@ -89,15 +90,20 @@ void find_soft_edges(const std::vector<std::array<xpbd::Index, 3>>& tris, std::v
   });
   edges.clear();
   tri_edges.assign(tris.size(), {0, 0, 0});
+  tri_owns.assign(tris.size(), 0);
   for (std::size_t i = 0; i < keys.size(); ++i) {
-    if (i == 0 || keys[i].lo != keys[i - 1].lo || keys[i].hi != keys[i - 1].hi) edges.push_back({keys[i].lo, keys[i].hi});
+    if (i == 0 || keys[i].lo != keys[i - 1].lo || keys[i].hi != keys[i - 1].hi) {
+      edges.push_back({keys[i].lo, keys[i].hi});
+      tri_owns[std::size_t(keys[i].tri)] |= std::uint8_t(1u << keys[i].side);  // its first triangle and side
+    }
     tri_edges[std::size_t(keys[i].tri)][std::size_t(keys[i].side)] = int(edges.size()) - 1;
   }
 }
 
 void surface_edges(const xpbd::Model& m, std::vector<std::array<xpbd::Index, 2>>& edges,
-                   std::vector<std::array<int, 3>>& tri_edges, std::vector<int>& edge_begin, std::vector<int>& edges_at) {
-  find_soft_edges(m.surface_triangles, edges, tri_edges);
+                   std::vector<std::array<int, 3>>& tri_edges, std::vector<std::uint8_t>& tri_owns,
+                   std::vector<int>& edge_begin, std::vector<int>& edges_at) {
+  find_soft_edges(m.surface_triangles, edges, tri_edges, tri_owns);
   const std::size_t n = std::size_t(m.num_particles());
   edge_begin.assign(n + 1, 0);
   for (const auto& [a, b] : edges) {
@@ -177,17 +183,47 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
   const Real ab = dt * sh.accel.norm();
   const Real wb = sh.w.norm() + dt * sh.ang_accel.norm();
   const bool use_bvh = !surface && tris.size() >= std::size_t(cs.triangle_bvh_from) && s.tri_bvh;
-  if (fs.edge_stamp.size() != s.soft_edges.size()) {
-    fs.edge_stamp.assign(s.soft_edges.size(), 0);
-    fs.stamp = 0;
-  }
-  const auto next_stamp = [&fs] {
-    if (++fs.stamp == 0) {  // wrapped: forget every mark
-      std::fill(fs.edge_stamp.begin(), fs.edge_stamp.end(), 0u);
-      fs.stamp = 1;
-    }
+
+  // Each box edge at the start of the step (world), and its box over the
+  // step; rigid: the box edges near the system, and `reach` the union of
+  // their boxes.
+  struct RigidEdge {
+    Vec3 a, b, outward;  // body frame (the contact's)
+    Vec3 A, B, out_dir;  // world, at the step's start
+    Vec3 lo, hi;         // its box over the step
+    Real travel;
   };
+  std::array<RigidEdge, 12> rigid_buf;
+  std::vector<RigidEdge> rigid_many;
+  const std::size_t nr_all = fs.box_edges.size();
+  RigidEdge* rigid = nr_all <= rigid_buf.size() ? rigid_buf.data() : (rigid_many.resize(nr_all), rigid_many.data());
+  std::size_t nr = 0;
+  Vec3 reach_lo = Vec3::Constant(std::numeric_limits<Real>::max()), reach_hi = -reach_lo;
+  for (const auto& [a, b, outward] : fs.box_edges) {
+    RigidEdge& r = rigid[nr];
+    r.a = a;
+    r.b = b;
+    r.outward = outward;
+    r.A = to_vec(start * to_bt(a));
+    r.B = to_vec(start * to_bt(b));
+    r.out_dir = to_vec(start.getBasis() * to_bt(outward));
+    r.travel = dt * (vb.norm() + ab + wb * std::max(a.norm(), b.norm()));
+    r.lo = (r.A.cwiseMin(r.B).array() - r.travel).matrix();
+    r.hi = (r.A.cwiseMax(r.B).array() + r.travel).matrix();
+    if ((r.lo.array() > sys_hi.array()).any() || (r.hi.array() < sys_lo.array()).any()) continue;  // away from the system
+    reach_lo = reach_lo.cwiseMin(r.lo);
+    reach_hi = reach_hi.cwiseMax(r.hi);
+    ++nr;
+  }
+  if (nr == 0) return;
+
+  // The soft edges that may meet a box edge, each once, in the order they
+  // are tested, and whether each is held (below); then their boxes over
+  // the step (detail::soft_edge_box), which each box edge's box must meet.
+  fs.near_pairs.clear();
+  fs.near_held.clear();
   if (surface) {
+    fs.near_edges.clear();
     const detail::ContactScratch& sc = s.contact;
     const bool has_attached = std::any_of(attachments_.begin(), attachments_.end(), [&](const Attachment& a) {
       return a.system == s.id && a.body == cand.obj;
@@ -207,11 +243,11 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
       }
       return false;
     };
-    // The edges with a movable end whose box (soft_edge_box) meets the
-    // candidate's, in ascending order, each as 2 e + held: from the culled
-    // particles' edges (the culling's half sizes hold each particle's
-    // edges' boxes, detail::widen_for_edges), or from every edge. The
-    // same edges either way.
+    // The edges with a movable end whose box meets the candidate's, in
+    // ascending order: from the culled particles' edges (the culling's
+    // half sizes hold each particle's edges' boxes,
+    // detail::widen_for_edges), or from every edge. The same edges either
+    // way.
     const auto take = [&](int e) {
       const auto [p0, p1] = s.soft_edges[std::size_t(e)];
       if (m.inv_mass[p0] == Real(0) && m.inv_mass[p1] == Real(0)) return;
@@ -219,9 +255,15 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
       if ((eb.lo.array() > cand.box.hi.array()).any() || (eb.hi.array() < cand.box.lo.array()).any()) return;
       fs.near_edges.push_back(2 * e + int(has_attached && (held(p0) || held(p1))));
     };
-    fs.near_edges.clear();
     if (cs.cull) {
-      next_stamp();
+      if (fs.edge_stamp.size() != s.soft_edges.size()) {
+        fs.edge_stamp.assign(s.soft_edges.size(), 0);
+        fs.stamp = 0;
+      }
+      if (++fs.stamp == 0) {  // wrapped: forget every mark
+        std::fill(fs.edge_stamp.begin(), fs.edge_stamp.end(), 0u);
+        fs.stamp = 1;
+      }
       for (Index j = sc.pair_begin[k]; j < sc.pair_begin[k + 1]; ++j) {
         const Index i = sc.particles[std::size_t(j)];
         for (int q = s.edge_begin[std::size_t(i)]; q < s.edge_begin[std::size_t(i) + 1]; ++q) {
@@ -235,110 +277,113 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
     } else {
       for (std::size_t e = 0; e < s.soft_edges.size(); ++e) take(int(e));
     }
-    if (fs.near_edges.empty()) return;
-  } else if (use_bvh) {
-    if (!fs.boxes_ready) {
-      fs.boxes.assign(fs.body_tris, tri_lo_, tri_hi_);
-      fs.boxes_ready = true;
+    for (const int coded : fs.near_edges) {
+      fs.near_pairs.push_back(s.soft_edges[std::size_t(coded / 2)]);
+      fs.near_held.push_back(std::uint8_t(coded & 1));
     }
-  } else if (fs.all_tris.size() != tris.size()) {
-    fs.all_tris.resize(tris.size());
-    for (std::size_t t = 0; t < tris.size(); ++t) fs.all_tris[t] = int(t);
+  } else {
+    // The edges of the triangles whose box meets the box edges' boxes,
+    // each from the first triangle that has it (System::tri_owns), in
+    // ascending order of that triangle, then side: with the hierarchy,
+    // among the triangles near the body's feature points
+    // (triangle_contacts_of's query; the box's corners are feature points,
+    // so they hold every triangle near its edges); else among all of them.
+    // A soft edge's box lies in both its triangles' boxes, so every edge
+    // whose box meets a box edge's is taken, once, in the same order either
+    // way. (Not a mark per edge: the triangles' own corners are at hand,
+    // where the edges' list and the marks cost a cache miss each on a
+    // large cloth.)
+    const auto edges_of = [&](const int t) {
+      const unsigned own = s.tri_owns[std::size_t(t)];
+      if (own == 0 || (reach_lo.array() > tri_hi_[std::size_t(t)].array()).any() ||
+          (reach_hi.array() < tri_lo_[std::size_t(t)].array()).any())
+        return;
+      const auto& tri = tris[std::size_t(t)];
+      for (std::size_t i = 0; i < 3; ++i)
+        if ((own >> i) & 1u) {
+          const Index a = tri[i], b = tri[(i + 1) % 3];
+          fs.near_pairs.push_back({std::min(a, b), std::max(a, b)});
+          fs.near_held.push_back(0);
+        }
+    };
+    if (use_bvh)
+      for (const int t : fs.body_tris) edges_of(t);
+    else
+      for (std::size_t t = 0; t < tris.size(); ++t) edges_of(int(t));
   }
-  for (const auto& box_edge : fs.box_edges) {
-    // Not a structured binding: the lambda below captures them.
-    const Vec3 &a = box_edge[0], &b = box_edge[1], &outward = box_edge[2];
-    next_stamp();
-    const Vec3 A = to_vec(start * to_bt(a)), B = to_vec(start * to_bt(b));
-    const Vec3 er = B - A;
-    const Vec3 out_dir = to_vec(start.getBasis() * to_bt(outward));
-    const Real travel = dt * (vb.norm() + ab + wb * std::max(a.norm(), b.norm()));
-    // The box edge's box over the step; the triangles' boxes are grown by
-    // their thickness and margin already (triangle_bounds).
-    const Vec3 lo = (A.cwiseMin(B).array() - travel).matrix(), hi = (A.cwiseMax(B).array() + travel).matrix();
-    if ((lo.array() > sys_hi.array()).any() || (hi.array() < sys_lo.array()).any()) continue;  // away from the system
+  if (fs.near_pairs.empty()) return;
+  fs.edge_lo.resize(fs.near_pairs.size());
+  fs.edge_hi.resize(fs.near_pairs.size());
+  for (std::size_t j = 0; j < fs.near_pairs.size(); ++j) {
+    const auto [p0, p1] = fs.near_pairs[j];
+    const detail::Box eb = detail::soft_edge_box(m, st, p0, p1, dt, cs.thickness, cs.margin);
+    fs.edge_lo[j] = eb.lo;
+    fs.edge_hi[j] = eb.hi;
+  }
+  fs.edge_boxes.assign(fs.edge_lo, fs.edge_hi);
+
+  for (std::size_t ri = 0; ri < nr; ++ri) {
+    const RigidEdge& r = rigid[ri];
+    const Vec3 &A = r.A, &out_dir = r.out_dir;
+    const Vec3 er = r.B - r.A;
+    const Real rr = er.squaredNorm();
     int found = 0;
     // Clamped before the cast: a huge edge (or a NaN) must not overflow it.
-    const Real pieces = std::ceil((b - a).norm() / cs.feature_spacing);
+    const Real pieces = std::ceil((r.b - r.a).norm() / cs.feature_spacing);
     const int cap = pieces > Real(kEdgeContacts / kEdgePerPiece)
                         ? (pieces < Real(1 << 16) ? kEdgePerPiece * static_cast<int>(pieces) : kEdgePerPiece << 16)
                         : kEdgeContacts;
+    fs.edge_found.clear();
+    fs.edge_boxes.overlapping(r.lo, r.hi, fs.edge_found);
     // The pair (box edge, soft edge e): a contact if the two lines' closest
     // points lie on both edges, near enough, on a side that leans outwards.
     // held: a soft edge at or next to a particle attached to the body,
     // kept out with no thickness (above).
-    const auto test = [&](const int e, bool held = false) {
-      const auto [p0, p1] = s.soft_edges[std::size_t(e)];
+    for (const int j : fs.edge_found) {
+      const bool held = fs.near_held[std::size_t(j)] != 0;
+      const auto [p0, p1] = fs.near_pairs[std::size_t(j)];
       const Vec3 P = st.x[p0], es = st.x[p1] - P;
       const Vec3 nn = er.cross(es);
-      const Real rr = er.squaredNorm(), ss = es.squaredNorm(), n2 = nn.squaredNorm();
-      if (!(n2 > kParallelSin * kParallelSin * rr * ss)) return;
+      const Real ss = es.squaredNorm(), n2 = nn.squaredNorm();
+      // The closest points at u and v along the two edges, times n2.
       const Vec3 w0 = A - P;
       const Real rs = er.dot(es), d = er.dot(w0), f = es.dot(w0);
-      const Real u = (rs * f - ss * d) / n2, v = (rr * f - rs * d) / n2;
-      if (!(u >= Real(0) && u <= Real(1) && v >= Real(0) && v <= Real(1))) return;
+      const Real u = rs * f - ss * d, v = rr * f - rs * d;
       // The side is the outside of the box edge, whichever side the soft
       // edge starts on: one that has just gone through is pushed back
-      // out, not held inside.
-      const Real lean = nn.dot(out_dir) / std::sqrt(n2);
-      if (!(std::abs(lean) >= xpbd::kEdgeLean)) return;
-      const Real dist = nn.dot(P - A) / std::sqrt(n2);
+      // out, not held inside. Its lean (cosine) is nl / |nn|.
+      const Real nl = nn.dot(out_dir);
+      // Not parallel (the closest points then lie on both edges), and
+      // leaning outwards; tested at once, without a branch per test (most
+      // pairs end here, on any of them, at random).
+      const bool near = (n2 > kParallelSin * kParallelSin * rr * ss) & (u >= Real(0)) & (u <= n2) & (v >= Real(0)) &
+                        (v <= n2) & (nl * nl >= xpbd::kEdgeLean * xpbd::kEdgeLean * n2);
+      if (!near) continue;
+      const Real inv = Real(1) / std::sqrt(n2);
+      const Real lean = nl * inv;
+      const Real dist = nn.dot(P - A) * inv;
       const Real thick = std::max({m.radius[p0], m.radius[p1], Real(0)}) + cs.thickness;
-      const Real move = std::max(travel, dt * (std::max((st.v[p0] - vb).norm(), (st.v[p1] - vb).norm()) + ab));
+      const Real move = std::max(r.travel, dt * (std::max((st.v[p0] - vb).norm(), (st.v[p1] - vb).norm()) + ab));
       // Nearer than the band on the outside, or inside by at most the
       // thickness. Deeper inside, the soft edge has gone through at
       // speed (a blade's edge), and it is neither held there nor pushed
       // out over the edge from deep in (the particle contacts answer).
       const Real out_dist = lean > Real(0) ? dist : -dist;
-      if (!(out_dist <= thick + cs.margin + move) || !(out_dist >= -thick)) return;
+      if (!(out_dist <= thick + cs.margin + move) || !(out_dist >= -thick)) continue;
       if (++found == cap) ++out.capped;
       xpbd::BodyEdgeContact c;  // body: set when joined (step_system)
-      c.a = a;
-      c.b = b;
+      c.a = r.a;
+      c.b = r.b;
       c.p = {p0, p1};
-      c.out = outward;
+      c.out = r.outward;
       c.thickness = held ? std::max({m.radius[p0], m.radius[p1], Real(0)}) : thick;
       c.reach = cs.margin;
       c.closing_speed = move / dt;
       c.static_friction = cs.static_friction * cand.obj->getFriction();
       c.dynamic_friction = cs.dynamic_friction * cand.obj->getFriction();
       out.edge.push_back(c);
-    };
-    if (surface) {
-      // The soft edge's box over the step, grown by its thickness and
-      // margin, against the box edge's.
-      for (const int coded : fs.near_edges) {
-        if (found == cap) break;
-        const int e = coded / 2;
-        const auto [p0, p1] = s.soft_edges[std::size_t(e)];
-        const detail::Box eb = detail::soft_edge_box(m, st, p0, p1, dt, cs.thickness, cs.margin);
-        if ((lo.array() > eb.hi.array()).any() || (hi.array() < eb.lo.array()).any()) continue;
-        test(e, (coded & 1) != 0);
-      }
-      continue;
+      if (found == cap) break;
     }
-    // The triangles whose box meets the box edge's, in ascending order,
-    // each soft edge once: with the hierarchy, among the triangles near
-    // the body's feature points (triangle_contacts_of's query, ascending;
-    // the box's corners are feature points, so they hold every triangle
-    // near its edges), by their boxes many at a time (fs.boxes); else
-    // among all of them. The same contacts either way.
-    const auto edges_of = [&](const int t) {
-      for (const int e : s.tri_edges[std::size_t(t)]) {
-        if (fs.edge_stamp[std::size_t(e)] == fs.stamp || found == cap) continue;
-        fs.edge_stamp[std::size_t(e)] = fs.stamp;
-        test(e);
-      }
-    };
-    if (use_bvh) {
-      fs.edge_tris.clear();
-      fs.boxes.overlapping(lo, hi, fs.edge_tris);
-      for (const int j : fs.edge_tris) edges_of(fs.body_tris[std::size_t(j)]);
-      continue;
-    }
-    for (const int t : fs.all_tris)
-      if (!(lo.array() > tri_hi_[std::size_t(t)].array()).any() && !(hi.array() < tri_lo_[std::size_t(t)].array()).any())
-        edges_of(t);
   }
 }
 

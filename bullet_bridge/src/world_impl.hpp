@@ -5,8 +5,10 @@
 // XPBD step of one system). Internal to the bridge.
 #include <btBulletDynamicsCommon.h>
 
+#include <array>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -205,30 +207,35 @@ struct XpbdWorld::FeatureScratch {
   std::vector<Real> feature_travel;            // and how far each can move over the step
   std::vector<btTransform> path_tf;            // a fast body's poses along the step
   std::vector<int> body_tris, tri_found;       // triangles the hierarchy returned (body, feature)
+  std::vector<std::uint64_t> tri_marks;        // scratch of the hierarchy's queries (all zero between them)
   detail::TriangleGrid grid;                   // the body's triangles near its features
   detail::BoxList boxes;                       // the boxes of body_tris, by coordinate
-  bool boxes_ready = false;                    // boxes holds this body's
   std::vector<std::array<Vec3, 3>> box_edges;  // a body's box edges: ends, outward bisector (body frame)
-  std::vector<int> all_tris;                   // every triangle, ascending (without the hierarchy)
-  std::vector<int> edge_tris;                  // positions in body_tris whose box meets a box edge's
-  std::vector<unsigned> edge_stamp;            // per soft edge: the last rigid edge that tested it
+  std::vector<unsigned> edge_stamp;            // per surface edge: the last body call that took it
   std::vector<int> near_edges;                 // surface edges e near the body as 2 e + held, ascending
+  std::vector<std::array<xpbd::Index, 2>> near_pairs;  // soft edges near the body, in test order
+  std::vector<std::uint8_t> near_held;         // and whether each is held (edge_contacts_of)
+  std::vector<Vec3> edge_lo, edge_hi;          // their boxes over the step
+  detail::BoxList edge_boxes;                  // the same, by coordinate
+  std::vector<int> edge_found;                 // positions in near_edges whose box meets a box edge's
   unsigned stamp = 0;
 };
 
 namespace detail {
 
 // The edges of triangles `tris`, each once (lower index first, in order of
-// first appearance), and each triangle's three edges as indices into them
-// (world_edge_contacts.cpp).
+// first appearance), each triangle's three edges as indices into them
+// (side i: corners i and i + 1), and per triangle, bit i set if side i is
+// its edge's first appearance (world_edge_contacts.cpp).
 void find_soft_edges(const std::vector<std::array<xpbd::Index, 3>>& tris, std::vector<std::array<xpbd::Index, 2>>& edges,
-                     std::vector<std::array<int, 3>>& tri_edges);
+                     std::vector<std::array<int, 3>>& tri_edges, std::vector<std::uint8_t>& tri_owns);
 
 // A system without collision triangles: its surface triangles' edges as
 // soft edges, and each particle's (System::edge_begin, edges_at); made
 // once (world_edge_contacts.cpp).
 void surface_edges(const xpbd::Model& m, std::vector<std::array<xpbd::Index, 2>>& edges,
-                   std::vector<std::array<int, 3>>& tri_edges, std::vector<int>& edge_begin, std::vector<int>& edges_at);
+                   std::vector<std::array<int, 3>>& tri_edges, std::vector<std::uint8_t>& tri_owns,
+                   std::vector<int>& edge_begin, std::vector<int>& edges_at);
 
 // True if `shape` is a box or a compound holding one (the shapes whose
 // edges edge_contacts_of tests).
@@ -308,6 +315,7 @@ struct XpbdWorld::System {
   // soft_edges[edges_at[edge_begin[i] .. edge_begin[i + 1])].
   std::vector<std::array<xpbd::Index, 2>> soft_edges;
   std::vector<std::array<int, 3>> tri_edges;
+  std::vector<std::uint8_t> tri_owns;  // per triangle: its sides that are their edge's first (find_soft_edges)
   std::vector<int> edge_begin, edges_at;
   std::vector<Real> edge_reach;  // scratch of detail::widen_for_edges
   std::vector<BodyContactReport> report;     // contact_report(id): the last step's

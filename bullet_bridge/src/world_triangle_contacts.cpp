@@ -220,7 +220,7 @@ void XpbdWorld::triangle_bounds(System& s, btScalar dt) {
       tri_hi_[t] = sweep_hi_[std::size_t(p0)].cwiseMax(sweep_hi_[std::size_t(p1)]).cwiseMax(sweep_hi_[std::size_t(p2)]).array() + grow;
     }
   });
-  if (s.tri_edges.size() != tris.size()) detail::find_soft_edges(tris, s.soft_edges, s.tri_edges);
+  if (s.tri_edges.size() != tris.size()) detail::find_soft_edges(tris, s.soft_edges, s.tri_edges, s.tri_owns);
   if (tris.size() >= std::size_t(cs.triangle_bvh_from)) {
     if (!s.tri_bvh) s.tri_bvh = std::make_unique<detail::TriangleBvh>();
     s.tri_bvh->update(tris, st.x, tri_lo_, tri_hi_, s.settings.workers);
@@ -243,7 +243,6 @@ void XpbdWorld::triangle_contacts_of(const System& s, std::size_t k, btScalar dt
   features.clear();
   centres.clear();
   fs.body_tris.clear();  // read by edge_contacts_of after this call
-  fs.boxes_ready = false;  // and fs.boxes, when this call fills it
   const btCollisionShape& shape = *obj->getCollisionShape();
   // A box's edges are held by the edge contacts when they are on
   // (edge_contacts_of): its feature points are then its corners alone,
@@ -432,11 +431,11 @@ void XpbdWorld::triangle_contacts_of(const System& s, std::size_t k, btScalar dt
     }
     const Real pad = pad_of(flo.cwiseAbs().cwiseMax(fhi.cwiseAbs()), reach);
     fs.body_tris.clear();
-    s.tri_bvh->query((flo.array() - (reach + pad)).matrix(), (fhi.array() + (reach + pad)).matrix(), fs.body_tris);
+    s.tri_bvh->query((flo.array() - (reach + pad)).matrix(), (fhi.array() + (reach + pad)).matrix(), fs.body_tris,
+                      fs.tri_marks);
     // The body's triangles' boxes by coordinate: each feature tests them
-    // all when that is few tests, and the box edges do (edge_contacts_of).
+    // all when that is few tests.
     fs.boxes.assign(fs.body_tris, tri_lo_, tri_hi_);
-    fs.boxes_ready = true;
     few = nf * fs.body_tris.size() <= kBruteTests;
     per_feature = !few && fs.body_tris.size() > kBodyTriangles;
     if (!few && !per_feature) {
@@ -489,7 +488,8 @@ void XpbdWorld::triangle_contacts_of(const System& s, std::size_t k, btScalar dt
     } else {
       const Real reach = travel, pad = pad_of(q0, reach);
       fs.tri_found.clear();
-      s.tri_bvh->query((q0.array() - (reach + pad)).matrix(), (q0.array() + (reach + pad)).matrix(), fs.tri_found);
+      s.tri_bvh->query((q0.array() - (reach + pad)).matrix(), (q0.array() + (reach + pad)).matrix(), fs.tri_found,
+                        fs.tri_marks);
       for (const int t : fs.tri_found)
         if (!outside(q0, travel, tri_lo_[std::size_t(t)], tri_hi_[std::size_t(t)]))
           try_triangle(local, q0, travel, std::size_t(t), path, centre);

@@ -5,7 +5,9 @@
 // overlaps the query's, however close to its edge.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
+#include <cstdint>
 #include <limits>
 #include <random>
 #include <vector>
@@ -70,25 +72,34 @@ TEST(BoxList, ReturnsExactlyTheOverlappingBoxesInOrder) {
 // if the query is rounded to float as the nodes are (a query edge moved in
 // by 1e-9 m loses it). Every triangle whose box overlaps is returned, in
 // ascending order, and none 1 mm away.
-TEST(TriangleBvh, NeverLosesATriangleWhoseBoxTouchesTheQuery) {
-  constexpr int n = 20;
-  std::vector<Vec3> x;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) x.emplace_back(Real(0.1) * Real(i), 0, Real(0.1) * Real(j));
+// An n x n grid of squares 0.1 m wide, two triangles each, and each
+// triangle's box shifted by 1e-12 m (a coordinate float cannot hold).
+struct Grid {
+  std::vector<Vec3> x, lo, hi;
   std::vector<std::array<xpbd::Index, 3>> tris;
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const xpbd::Index a = j * (n + 1) + i, b = a + 1, c = a + n + 1;
-      tris.push_back({a, b, c});
-      tris.push_back({b, c + 1, c});
+  explicit Grid(int n) {
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) x.emplace_back(Real(0.1) * Real(i), 0, Real(0.1) * Real(j));
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const xpbd::Index a = j * (n + 1) + i, b = a + 1, c = a + n + 1;
+        tris.push_back({a, b, c});
+        tris.push_back({b, c + 1, c});
+      }
+    lo.resize(tris.size());
+    hi.resize(tris.size());
+    for (std::size_t t = 0; t < tris.size(); ++t) {
+      lo[t] = x[std::size_t(tris[t][0])].cwiseMin(x[std::size_t(tris[t][1])]).cwiseMin(x[std::size_t(tris[t][2])]);
+      hi[t] = x[std::size_t(tris[t][0])].cwiseMax(x[std::size_t(tris[t][1])]).cwiseMax(x[std::size_t(tris[t][2])]);
+      lo[t].array() += Real(1e-12);
+      hi[t].array() += Real(1e-12);
     }
-  std::vector<Vec3> lo(tris.size()), hi(tris.size());
-  for (std::size_t t = 0; t < tris.size(); ++t) {
-    lo[t] = x[std::size_t(tris[t][0])].cwiseMin(x[std::size_t(tris[t][1])]).cwiseMin(x[std::size_t(tris[t][2])]);
-    hi[t] = x[std::size_t(tris[t][0])].cwiseMax(x[std::size_t(tris[t][1])]).cwiseMax(x[std::size_t(tris[t][2])]);
-    lo[t].array() += Real(1e-12);
-    hi[t].array() += Real(1e-12);
   }
+};
+
+TEST(TriangleBvh, NeverLosesATriangleWhoseBoxTouchesTheQuery) {
+  const Grid g(20);
+  const auto& [x, lo, hi, tris] = g;
   xpbd_bullet::detail::TriangleBvh bvh;
   bvh.update(tris, x, lo, hi);
   int checked = 0;
@@ -125,6 +136,41 @@ TEST(TriangleBvh, NeverLosesATriangleWhoseBoxTouchesTheQuery) {
     }
   }
   EXPECT_GT(checked, 100);
+}
+
+// The query with the caller's marks (the contact search keeps one per
+// thread): random boxes, one marks vector for all of them, against a fresh
+// one per query. The same triangles each time, appended after what `out`
+// held, in ascending order, every overlapping one among them; and the
+// marks are all clear after each query (a mark left set would add its
+// triangle to every later query).
+TEST(TriangleBvh, SharedMarksGiveTheSameTrianglesAndAreLeftClear) {
+  const Grid g(30);
+  xpbd_bullet::detail::TriangleBvh bvh;
+  bvh.update(g.tris, g.x, g.lo, g.hi);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> at(-0.2, 3.2), size(0.0, 0.8);
+  std::vector<std::uint64_t> marks;
+  int nonempty = 0;
+  for (int round = 0; round < 300; ++round) {
+    Vec3 qlo(Real(at(rng)), Real(-0.01), Real(at(rng)));
+    const Vec3 qhi = qlo + Vec3(Real(size(rng)), Real(0.02), Real(size(rng)));
+    std::vector<int> fresh, shared{-5};  // shared: something held before
+    bvh.query(qlo, qhi, fresh);
+    bvh.query(qlo, qhi, shared, marks);
+    ASSERT_EQ(shared.front(), -5);
+    ASSERT_EQ(std::vector<int>(shared.begin() + 1, shared.end()), fresh) << "round " << round;
+    ASSERT_TRUE(std::is_sorted(fresh.begin(), fresh.end()));
+    for (std::size_t t = 0; t < g.tris.size(); ++t) {
+      if (overlaps(qlo, qhi, g.lo[t], g.hi[t])) {
+        ASSERT_TRUE(std::binary_search(fresh.begin(), fresh.end(), int(t))) << "round " << round << ", triangle " << t;
+      }
+    }
+    ASSERT_GE(marks.size(), (g.tris.size() + 63) / 64);
+    for (const std::uint64_t w : marks) ASSERT_EQ(w, 0u) << "round " << round;
+    nonempty += fresh.empty() ? 0 : 1;
+  }
+  EXPECT_GT(nonempty, 200);
 }
 
 }  // namespace XPBD_TEST_FILE_ID
