@@ -42,6 +42,7 @@ Box3f to_float(const xpbd::Vec3& v) { return v.cast<float>(); }
 
 struct TriangleBvh::Impl {
   std::vector<std::array<xpbd::Index, 3>> tris;  // what the tree was built for
+  const std::array<xpbd::Index, 3>* tris_at = nullptr;  // the caller's vector, at the last update
   std::vector<Node> nodes;
   bool built = false;
   std::vector<int> above, roots;  // scratch of a refit split over threads
@@ -103,13 +104,18 @@ void TriangleBvh::update(const std::vector<std::array<xpbd::Index, 3>>& tris, co
                          const std::vector<xpbd::Vec3>& lo, const std::vector<xpbd::Vec3>& hi,
                          xpbd::Workers* workers) {
   Impl& m = *impl_;
-  if (!m.built || tris != m.tris) {
+  // The same vector as last time (its address and size) holds the same
+  // triangles: the bridge's systems never change theirs. Another one is
+  // compared by content (a copy of a system's model).
+  const bool same = m.built && tris.data() == m.tris_at && tris.size() == m.tris.size();
+  if (!same && (!m.built || tris != m.tris)) {
     std::vector<Point> points(x.size());
     for (std::size_t i = 0; i < x.size(); ++i) points[i] = point(x[i]);
     m.nodes = build(tris, points);
     m.tris = tris;
     m.built = true;
   }
+  m.tris_at = tris.data();
   // The refit: each leaf's box is its triangle's, each inner node's is over
   // its two children's, last node first, so that children come before
   // their parent. With a pool, the subtrees under the top kSplitDepth

@@ -36,9 +36,11 @@ class TriangleBvh {
   TriangleBvh& operator=(const TriangleBvh&) = delete;
 
   // Builds the hierarchy on the first call, or when the triangles are not
-  // the ones it was built for (x: the particles); then refits it to the
-  // triangles' boxes [lo[t], hi[t]]; with a pool (workers, or null), its
-  // subtrees in parallel (the same boxes).
+  // the ones it was built for (x: the particles; the same vector as at the
+  // last call, unchanged in size, is taken to hold the same triangles: a
+  // caller that edits them in place must use a new TriangleBvh); then
+  // refits it to the triangles' boxes [lo[t], hi[t]]; with a pool (workers,
+  // or null), its subtrees in parallel (the same boxes).
   void update(const std::vector<std::array<xpbd::Index, 3>>& tris, const std::vector<xpbd::Vec3>& x,
               const std::vector<xpbd::Vec3>& lo, const std::vector<xpbd::Vec3>& hi,
               xpbd::Workers* workers = nullptr);
