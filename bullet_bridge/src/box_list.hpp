@@ -1,10 +1,10 @@
 #pragma once
-// The boxes of a list of triangles, stored by coordinate, for testing many
-// of them against one box at a time: the rigid features' and box edges'
-// search among the triangles near one body (world_triangle_contacts.cpp),
-// and the box edges' among the soft edges near it (world_edge_contacts.cpp). With SSE2 (every x86-64 CPU), two boxes per
-// comparison in double and four in float; elsewhere one at a time, with the
-// same result.
+// A list of boxes stored by coordinate, for testing many of them against
+// one box at a time: the rigid features' search among the triangles near
+// one body (world_triangle_contacts.cpp), and the box edges' among the soft
+// edges near it (world_edge_contacts.cpp). With SSE2 (every x86-64 CPU),
+// two boxes per comparison in double and four in float; elsewhere one at a
+// time, with the same result.
 #include <vector>
 
 #include "xpbd/types.hpp"

@@ -217,7 +217,7 @@ struct XpbdWorld::FeatureScratch {
   std::vector<std::uint8_t> near_held;         // and whether each is held (edge_contacts_of)
   std::vector<Vec3> edge_lo, edge_hi;          // their boxes over the step
   detail::BoxList edge_boxes;                  // the same, by coordinate
-  std::vector<int> edge_found;                 // positions in near_edges whose box meets a box edge's
+  std::vector<int> edge_found;                 // positions in near_pairs whose box meets a box edge's
   unsigned stamp = 0;
 };
 

@@ -30,8 +30,9 @@ bool overlaps(const Vec3& lo, const Vec3& hi, const Vec3& blo, const Vec3& bhi) 
 
 // Every list length from 0 to 9 (whole lanes and remainders in either
 // precision), boxes that touch the query exactly, a NaN box, and a random
-// subset of the triangles: the positions returned are exactly those of the
-// boxes that overlap, one at a time, in ascending order.
+// subset of the triangles, taken by index or given directly: the positions
+// returned are exactly those of the boxes that overlap, one at a time, in
+// ascending order.
 TEST(BoxList, ReturnsExactlyTheOverlappingBoxesInOrder) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> coord(-1, 1), size(0, 0.5);
@@ -62,6 +63,18 @@ TEST(BoxList, ReturnsExactlyTheOverlappingBoxesInOrder) {
         if (overlaps(qlo, qhi, lo[std::size_t(tris[std::size_t(k)])], hi[std::size_t(tris[std::size_t(k)])]))
           want.push_back(k);
       ASSERT_EQ(got, want) << "n " << n << ", round " << round;
+      // The same boxes given directly, in the list's order.
+      std::vector<Vec3> own_lo, own_hi;
+      for (const int t : tris) {
+        own_lo.push_back(lo[std::size_t(t)]);
+        own_hi.push_back(hi[std::size_t(t)]);
+      }
+      xpbd_bullet::detail::BoxList direct;
+      direct.assign(own_lo, own_hi);
+      ASSERT_EQ(direct.size(), tris.size());
+      got.clear();
+      direct.overlapping(qlo, qhi, got);
+      ASSERT_EQ(got, want) << "given directly: n " << n << ", round " << round;
     }
   }
 }
