@@ -22,9 +22,21 @@
 //      box into the ground goes back above the ground;
 //   4. steps 2 and 3 again for the particles the last round moved, up to
 //      kSettleRounds rounds (a particle in a wedge between two bodies);
+//      then step 1 again: the attachment has the last word over the
+//      contacts. A particle attached to a body and squeezed against it by
+//      another body is pushed out of that one by step 2, and the nearest
+//      way out can be into its own body, where nothing pushes it out again
+//      (it has no contact with the body it is attached to; the squeeze
+//      application's bar had one 8.9 mm inside, docs/squeeze.md). Put back
+//      at its point, it is inside the other body, which step 5 moves out;
 //   5. with ContactSettings::wedges, each dynamic body that a particle is
-//      still inside is moved out of it (below).
-// So a frame ends with every contact of the step satisfied, as it did when
+//      still inside is moved out of it (below). Step 1 is not made again
+//      after it: a body that step 5 moves leaves its attached particles
+//      where they were (up to kWedgeShift thicknesses behind). Putting
+//      them on it then made the float squeeze application's bar spin up
+//      to 27 m/s (one seed of 32).
+// So a frame ends with every contact of the step satisfied (but where a
+// rigid attachment holds its particle against one), as it did when
 // XPBD ran after Bullet (the action hook), where the pre-solve coupling
 // alone left the violation Bullet's own contacts made (measured, xpbd-demo
 // at the defaults: bullet_softdemo_cloth 73 mm -> 1.3e-15 m,
@@ -55,13 +67,18 @@ constexpr Real kWedgeShift = 2;
 void XpbdWorld::settle(System& s) {
   const xpbd::Model& m = *s.model;
   xpbd::State& st = s.state;
-  for (const Attachment& a : attachments_) {
-    if (a.system != s.id || a.compliance != 0 || a.body->isStaticOrKinematicObject() ||
-        m.inv_mass[std::size_t(a.particle)] == 0 || !in_world(world_, a.body) || !finite_body(a.body))
-      continue;
-    st.x[std::size_t(a.particle)] = to_vec(a.body->getCenterOfMassTransform() * a.local);
-    ++stats_.settled;
-  }
+  // Step 1 (and the end of step 4): each rigidly attached particle at its
+  // point.
+  const auto hold_attached = [&](bool count) {
+    for (const Attachment& a : attachments_) {
+      if (a.system != s.id || a.compliance != 0 || a.body->isStaticOrKinematicObject() ||
+          m.inv_mass[std::size_t(a.particle)] == 0 || !in_world(world_, a.body) || !finite_body(a.body))
+        continue;
+      st.x[std::size_t(a.particle)] = to_vec(a.body->getCenterOfMassTransform() * a.local);
+      if (count) ++stats_.settled;
+    }
+  };
+  hold_attached(true);
   // Rounds of projections (Gauss-Seidel over each particle's contacts): a
   // particle in the wedge between two bodies, pushed out of one into the
   // other, is looked at again in the next round, until no particle moves
@@ -101,6 +118,7 @@ void XpbdWorld::settle(System& s) {
   //    the cloth between them is the rigid spacer that XPBD solved it as.
   //    A position correction only, as Bullet's split impulse makes (the
   //    velocities are unchanged, and the next step's contacts see them).
+  hold_attached(false);  // the end of step 4
   if (!s.settings.contacts.wedges) return;
   for (const xpbd::BodyContact& c : st.contacts) {
     const std::size_t p = std::size_t(c.particle);
