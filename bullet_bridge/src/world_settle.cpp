@@ -108,6 +108,7 @@ void XpbdWorld::settle(System& s) {
     if (!any) break;
     moved.swap(next);
   }
+  hold_attached(false);  // the end of step 4: the attachments have the last word over the contacts
   // 5. A particle still inside a dynamic body after the rounds is in a
   //    wedge: two bodies that Bullet's solver pushed together over the
   //    cloth (the spacers met only as far as its iterations went), or a
@@ -118,7 +119,6 @@ void XpbdWorld::settle(System& s) {
   //    the cloth between them is the rigid spacer that XPBD solved it as.
   //    A position correction only, as Bullet's split impulse makes (the
   //    velocities are unchanged, and the next step's contacts see them).
-  hold_attached(false);  // the end of step 4
   if (!s.settings.contacts.wedges) return;
   for (const xpbd::BodyContact& c : st.contacts) {
     const std::size_t p = std::size_t(c.particle);
