@@ -134,12 +134,22 @@ inline double mean_period(const std::vector<double>& crossings) {
 }
 
 // The vector kernels of the coloured sweeps that this build has on this
-// CPU, widest first: "avx512", "avx2", or none.
+// CPU, widest first: "avx512", "avx512-ymm" (the Distance sweep's 256-bit
+// AVX-512 kernel, where the CPU reports AVX-512VL), "avx2", or none.
 inline std::vector<std::string> vector_kernels() {
   const std::string widest = simd_kernel();
-  if (widest == "avx512") return {"avx512", "avx2"};
   if (widest == "avx2") return {"avx2"};
-  return {};
+  if (widest != "avx512") return {};
+  std::vector<std::string> k{"avx512"};
+  try {
+    set_simd_kernel("avx512-ymm");
+    k.push_back("avx512-ymm");
+  } catch (const ConfigError&) {
+    // no AVX-512VL
+  }
+  set_simd_kernel("auto");
+  k.push_back("avx2");
+  return k;
 }
 
 // Runs the coloured sweeps on kernel `name` (set_simd_kernel; the Distance

@@ -12,6 +12,7 @@
 //     link carries the weight below it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -92,18 +93,31 @@ TEST(DistanceStream, KernelCapIsCheckedAndNamed) {
     EXPECT_STREQ(distance_kernel(), "scalar");
   }
   EXPECT_EQ(std::string(simd_kernel()), widest);
-  // The Distance sweep runs a named kernel (AVX2 for "avx512" in float,
-  // which has no AVX-512 Distance kernel); by default ("auto") a vector
-  // kernel, the faster of the two where the CPU has AVX-512.
-  for (const std::string& k : test::vector_kernels()) {
+  // The Distance sweep runs a named kernel ("avx512" in float, which has
+  // no 512-bit Distance kernel, runs the 256-bit AVX-512 one, or AVX2
+  // without AVX-512VL); by default ("auto") a vector kernel, the fastest
+  // of them where the CPU has AVX-512.
+  const std::vector<std::string> kernels = test::vector_kernels();
+  const bool ymm = std::find(kernels.begin(), kernels.end(), "avx512-ymm") != kernels.end();
+  for (const std::string& k : kernels) {
     const test::KernelCap cap(k);
-    EXPECT_EQ(std::string(distance_kernel()), k == "avx512" && sizeof(Real) == sizeof(float) ? "avx2" : k);
+    EXPECT_STREQ(simd_kernel(), k == "avx512-ymm" ? "avx512" : k.c_str());
+    const std::string named = k == "avx512" && sizeof(Real) == sizeof(float) ? (ymm ? "avx512-ymm" : "avx2") : k;
+    EXPECT_EQ(std::string(distance_kernel()), named);
   }
   const std::string d = distance_kernel();
   if (widest == "avx512")
-    EXPECT_TRUE(d == "avx512" || d == "avx2") << d;
+    EXPECT_TRUE(d == "avx2" || (d == "avx512" && sizeof(Real) == sizeof(double)) || (d == "avx512-ymm" && ymm)) << d;
   else
     EXPECT_EQ(d, widest);
+  if (!ymm) {
+    try {
+      set_simd_kernel("avx512-ymm");
+      ADD_FAILURE() << "accepted avx512-ymm without AVX-512VL";
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("not available"), std::string::npos) << e.what();
+    }
+  }
   EXPECT_THROW(set_simd_kernel("Auto"), ConfigError);
 }
 
@@ -211,14 +225,14 @@ TEST(DistanceStream, OneSweepIsThePairDistanceKernelsToRoundOff) {
 
 bool same_bits(const Vec3& p, const Vec3& q) { return std::memcmp(p.data(), q.data(), sizeof(Real) * 3) == 0; }
 
-// Every vector kernel this CPU has (AVX-512 and AVX2, each set as the cap
-// in turn) against the scalar one.
+// Every vector kernel this CPU has (AVX-512 at 512 and 256 bits and AVX2,
+// each named in turn) against the scalar one.
 TEST(DistanceStream, VectorAndScalarKernelsGiveTheSameBits) {
   if (test::vector_kernels().empty()) GTEST_SKIP() << "this CPU has no vector kernel";
   for (const std::string& kernel : test::vector_kernels())
   for (Real damping : {Real(0), Real(2)}) {
     const test::KernelCap cap(kernel);
-    ASSERT_EQ(std::string(simd_kernel()), kernel);
+    ASSERT_EQ(std::string(simd_kernel()), kernel == "avx512-ymm" ? "avx512" : kernel);
     const Model m = cloth(48, damping);
     State vec = make_state(m);
     // A zero-length edge (particles 1 and 2 on top of each other): left alone by both kernels.

@@ -37,8 +37,11 @@ namespace {
 // while another thread steps changes its speed only.
 std::atomic<int> simd_cap{static_cast<int>(Simd::avx512)};
 // No kernel named (set_simd_kernel("auto"), the start): the Distance sweep
-// may take the faster of its vector kernels (faster_distance_kernel).
+// may take the fastest of its vector kernels (distance_avx512_kernel).
 std::atomic<bool> simd_auto{true};
+// set_simd_kernel("avx512-ymm"): the Distance sweep runs its 256-bit
+// AVX-512 kernel.
+std::atomic<bool> distance_ymm{false};
 
 const char* simd_name(Simd k) {
   switch (k) {
@@ -102,6 +105,9 @@ namespace {
 // division by 1 where den is not > 0, so that the compiler packs each loop.
 // GCC 12 keeps the branch unless told that floating-point exceptions are
 // not observed (no-trapping-math; the values are the same either way).
+// An element left alone (inv_den = 0: den <= 0, or not finite) gets at =
+// gamma = 0, so that the Distance kernel's dl is num * 0 = +-0 there with
+// no test of its own (stream_kernel.hpp).
 #if defined(__GNUC__) && !defined(__clang__)
 #define XPBD_PACKED_DIVISION [[gnu::optimize("no-trapping-math")]]
 #else
@@ -119,6 +125,9 @@ XPBD_PACKED_DIVISION void step_factors(const Real* __restrict compliance, const 
       const bool ok = den > Real(0);
       const Real q = Real(1) / (ok ? den : Real(1));
       inv_den[j] = ok ? q : Real(0);
+      const bool used = inv_den[j] > Real(0);  // left alone otherwise (den <= 0, or not finite)
+      at[j] = used ? at[j] : Real(0);
+      gamma[j] = used ? gamma[j] : Real(0);
     }
   } else {
     for (std::size_t j = lo; j < hi; ++j) {
@@ -127,6 +136,7 @@ XPBD_PACKED_DIVISION void step_factors(const Real* __restrict compliance, const 
       const bool ok = den > Real(0);
       const Real q = Real(1) / (ok ? den : Real(1));
       inv_den[j] = ok ? q : Real(0);
+      at[j] = inv_den[j] > Real(0) ? at[j] : Real(0);  // left alone otherwise (den <= 0, or not finite)
     }
   }
 }
@@ -164,72 +174,98 @@ void pair_sweep(const Model& m, State& s, const PairStream& p, const SolveContex
   a.lambda = p.lambda.data();
   a.x = s.stream_x.data();
   a.x_prev = damped ? s.stream_x_prev.data() : nullptr;
-  PairKernel k = pick_kernel(simd_level(simd), p.scalar, p.avx2, p.avx512);
-  if (p.measured && k == p.avx512 && p.avx2 != nullptr && simd_auto.load(std::memory_order_relaxed))
-    k = faster_distance_kernel(p.avx2, p.avx512);
+  const Simd level = simd_level(simd);
+  const PairKernel k = p.measured && level == Simd::avx512 ? distance_avx512_kernel()
+                                                           : pick_kernel(level, p.scalar, p.avx2, p.avx512);
   // The colours, then the records back into s.x.
   sweep_colours_then(
       p.colours, sc.reverse, workers, [&](std::size_t lo, std::size_t hi) { k(a, lo, hi, damped, first); },
       p.min_per_task, s.x.size(), [&](std::size_t lo, std::size_t hi) { unpack_range(s, lo, hi); });
 }
 
-PairKernel faster_distance_kernel(PairKernel avx2, PairKernel avx512) {
-  // Measured once per process (a function-local static: the first caller
-  // measures, any other waits for it). The colour: kElements disjoint
-  // pairs of particle records along x, as a cloth row's structural edges,
-  // compliant (at = 0.01), swept kRounds times by each kernel in turn; the
-  // one with the shorter best time is kept. Every kernel gives the same
-  // bits, so the choice changes the speed only.
-  static const bool wide = [=] {
-    constexpr std::size_t kElements = 4096;
-    constexpr int kRounds = 16;
-    std::vector<Index> a(kElements), b(kElements);
-    std::vector<Real> rest(kElements, Real(0.01)), at(kElements, Real(0.01)),
-        inv_den(kElements, Real(1) / Real(2.01)), lambda(kElements, Real(0));
-    AlignedVector<Real> x(8 * kElements, Real(0));  // the kernels load whole records, aligned (State::stream_x)
-    for (std::size_t i = 0; i < kElements; ++i) {
-      a[i] = static_cast<Index>(2 * i);
-      b[i] = static_cast<Index>(2 * i + 1);
-      x[8 * i] = Real(0.02) * Real(i);
-      x[8 * i + 4] = Real(0.02) * Real(i) + Real(0.011);
-      x[8 * i + 3] = x[8 * i + 7] = Real(1);  // inverse masses
+const DistanceKernels& distance_kernels() {
+  static const DistanceKernels k = [] {
+    DistanceKernels d{nullptr, nullptr, nullptr};
+#if XPBD_HAVE_AVX2_KERNEL
+    if (__builtin_cpu_supports("avx2") != 0) d.avx2 = &project_stream_avx2;
+#endif
+#if XPBD_HAVE_AVX512_KERNEL
+    if (__builtin_cpu_supports("avx512f") != 0) {
+      if (__builtin_cpu_supports("avx512vl") != 0) d.avx512_ymm = &project_stream_avx512_ymm;
+#if XPBD_DOUBLE
+      // In float the 512-bit Distance kernel was no faster than the AVX2
+      // one (docs/bench-coloured.md, "The AVX-512 kernels"): float has none.
+      d.avx512 = &project_stream_avx512;
+#endif
     }
-    StreamArgs args;
-    args.a = a.data();
-    args.b = b.data();
-    args.rest = rest.data();
-    args.at = at.data();
-    args.inv_den = inv_den.data();
-    args.lambda = lambda.data();
-    args.x = x.data();
-    double best[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
-    for (int r = 0; r < kRounds; ++r)
-      for (int w = 0; w < 2; ++w) {
-        const auto t0 = std::chrono::steady_clock::now();
-        (w == 1 ? avx512 : avx2)(args, 0, kElements, false, false);
-        best[w] = std::min(best[w], std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-      }
-    return best[1] < best[0];
+#endif
+    return d;
   }();
-  return wide ? avx512 : avx2;
+  return k;
+}
+
+namespace {
+// Of the kernels (the non-null ones), the one that sweeps a test colour
+// fastest: kElements disjoint pairs of particle records along x, as a
+// cloth row's structural edges, compliant (at = 0.01), swept kRounds times
+// by each kernel in turn; the one with the shortest best time. Every
+// kernel gives the same bits, so the choice changes the speed only.
+PairKernel fastest_of(const std::vector<PairKernel>& kernels) {
+  constexpr std::size_t kElements = 4096;
+  constexpr int kRounds = 16;
+  std::vector<Index> a(kElements), b(kElements);
+  std::vector<Real> rest(kElements, Real(0.01)), at(kElements, Real(0.01)),
+      inv_den(kElements, Real(1) / Real(2.01)), lambda(kElements, Real(0));
+  AlignedVector<Real> x(8 * kElements, Real(0));  // the kernels load whole records, aligned (State::stream_x)
+  for (std::size_t i = 0; i < kElements; ++i) {
+    a[i] = static_cast<Index>(2 * i);
+    b[i] = static_cast<Index>(2 * i + 1);
+    x[8 * i] = Real(0.02) * Real(i);
+    x[8 * i + 4] = Real(0.02) * Real(i) + Real(0.011);
+    x[8 * i + 3] = x[8 * i + 7] = Real(1);  // inverse masses
+  }
+  StreamArgs args;
+  args.a = a.data();
+  args.b = b.data();
+  args.rest = rest.data();
+  args.at = at.data();
+  args.inv_den = inv_den.data();
+  args.lambda = lambda.data();
+  args.x = x.data();
+  std::vector<double> best(kernels.size(), std::numeric_limits<double>::infinity());
+  for (int r = 0; r < kRounds; ++r)
+    for (std::size_t w = 0; w < kernels.size(); ++w) {
+      const auto t0 = std::chrono::steady_clock::now();
+      kernels[w](args, 0, kElements, false, false);
+      best[w] = std::min(best[w], std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+  return kernels[std::size_t(std::min_element(best.begin(), best.end()) - best.begin())];
+}
+}  // namespace
+
+PairKernel distance_avx512_kernel() {
+  const DistanceKernels& d = distance_kernels();
+  if (!simd_auto.load(std::memory_order_relaxed)) {
+    if (d.avx512 != nullptr && !distance_ymm.load(std::memory_order_relaxed)) return d.avx512;
+    return d.avx512_ymm != nullptr ? d.avx512_ymm : d.avx2;
+  }
+  // Measured once per process (a function-local static: the first caller
+  // measures, any other waits for it).
+  static const PairKernel fastest = [&d] {
+    std::vector<PairKernel> k;
+    for (const PairKernel c : {d.avx2, d.avx512_ymm, d.avx512})
+      if (c != nullptr) k.push_back(c);
+    if (k.empty()) return PairKernel(&project_stream_scalar);  // not on a CPU with AVX-512F (all have AVX2)
+    return k.size() == 1 ? k[0] : fastest_of(k);
+  }();
+  return fastest;
 }
 
 namespace {
 PairStream distance_pair(const Model& m, State& s) {
-#if XPBD_HAVE_AVX2_KERNEL
-  const PairKernel avx2 = &project_stream_avx2;
-#else
-  const PairKernel avx2 = nullptr;
-#endif
-#if XPBD_HAVE_AVX512_KERNEL && XPBD_DOUBLE
-  // In float the AVX-512 Distance kernel was no faster than the AVX2 one
-  // (docs/bench-coloured.md, "The AVX-512 kernels"), so float keeps AVX2 here.
-  const PairKernel avx512 = &project_stream_avx512;
-#else
-  const PairKernel avx512 = nullptr;
-#endif
+  const DistanceKernels& d = distance_kernels();
   return {m.distance_stream, m.distance_colours,      s.stream_at, s.stream_inv_den, s.stream_gamma,
-          s.stream_lambda,   &project_stream_scalar, avx2,        avx512,           kMinDistancePerTask,
+          s.stream_lambda,   &project_stream_scalar, d.avx2,      d.avx512,         kMinDistancePerTask,
           true};
 }
 }  // namespace
@@ -319,18 +355,10 @@ const char* simd_kernel() { return detail::simd_name(detail::simd_level(true)); 
 const char* distance_kernel() {
   using detail::Simd;
   const Simd level = detail::simd_level(true);
-#if XPBD_HAVE_AVX512_KERNEL && XPBD_DOUBLE && XPBD_HAVE_AVX2_KERNEL
-  if (level == Simd::avx512 && detail::simd_auto.load(std::memory_order_relaxed))
-    return detail::faster_distance_kernel(&detail::project_stream_avx2, &detail::project_stream_avx512) ==
-                   &detail::project_stream_avx512
-               ? "avx512"
-               : "avx2";
-#endif
-#if XPBD_HAVE_AVX512_KERNEL && XPBD_DOUBLE
-  return detail::simd_name(level);
-#else
-  return detail::simd_name(std::min(level, Simd::avx2));
-#endif
+  if (level != Simd::avx512) return detail::simd_name(level);
+  const detail::PairKernel k = detail::distance_avx512_kernel();
+  const detail::DistanceKernels& d = detail::distance_kernels();
+  return k == d.avx512 ? "avx512" : k == d.avx512_ymm ? "avx512-ymm" : k == d.avx2 ? "avx2" : "scalar";
 }
 
 void set_simd_kernel(const std::string& name) {
@@ -338,20 +366,25 @@ void set_simd_kernel(const std::string& name) {
   if (name == "auto") {
     detail::simd_cap.store(static_cast<int>(Simd::avx512), std::memory_order_relaxed);
     detail::simd_auto.store(true, std::memory_order_relaxed);
+    detail::distance_ymm.store(false, std::memory_order_relaxed);
     return;
   }
   Simd k = Simd::scalar;
-  if (name == "avx512")
+  if (name == "avx512" || name == "avx512-ymm")
     k = Simd::avx512;
   else if (name == "avx2")
     k = Simd::avx2;
   else if (name != "scalar")
-    throw ConfigError("set_simd_kernel: unknown kernel \"" + name + "\" (auto, avx512, avx2 or scalar)");
+    throw ConfigError("set_simd_kernel: unknown kernel \"" + name + "\" (auto, avx512, avx512-ymm, avx2 or scalar)");
   if (k > detail::widest_simd())
     throw ConfigError("set_simd_kernel: \"" + name + "\" is not available here (the widest kernel of this build on this CPU is " +
                       detail::simd_name(detail::widest_simd()) + ")");
+  const bool ymm = name == "avx512-ymm";
+  if (ymm && detail::distance_kernels().avx512_ymm == nullptr)
+    throw ConfigError("set_simd_kernel: \"avx512-ymm\" is not available here (this CPU does not report AVX-512VL)");
   detail::simd_cap.store(static_cast<int>(k), std::memory_order_relaxed);
   detail::simd_auto.store(false, std::memory_order_relaxed);
+  detail::distance_ymm.store(ymm, std::memory_order_relaxed);
 }
 
 }  // namespace xpbd

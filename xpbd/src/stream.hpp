@@ -145,17 +145,26 @@ struct PairStream {
   PairKernel scalar, avx2, avx512;  // null where the library has no such kernel
   // The least elements of a colour per thread (sweep_colours).
   std::size_t min_per_task = kMinPerTask;
-  // Where the CPU allows AVX-512: run the faster of the AVX-512 and AVX2
-  // kernels (faster_distance_kernel: the Distance stream's) rather than
-  // the wider.
+  // The Distance stream's: where the CPU allows AVX-512, its kernel is
+  // distance_avx512_kernel's choice, not simply the widest.
   bool measured = false;
 };
-// Of the AVX2 and AVX-512 Distance kernels (avx2, avx512), the one that
-// sweeps a test colour faster on this CPU, measured at the first call and
-// kept for the process (stream.cpp). The wider kernel was 1.3-1.5 times as
-// fast on an Intel Xeon and 0.8 times on an AMD EPYC
-// (docs/bench-coloured.md).
-PairKernel faster_distance_kernel(PairKernel avx2, PairKernel avx512);
+// The Distance kernels, null where this build or CPU has none: AVX2,
+// AVX-512 at 256 bits (AVX-512VL, stream_avx512_ymm.cpp) and at 512 bits
+// (double only).
+struct DistanceKernels {
+  PairKernel avx2, avx512_ymm, avx512;
+};
+const DistanceKernels& distance_kernels();
+// The Distance kernel where the CPU allows AVX-512 (simd_level): the one
+// set_simd_kernel named ("avx512": 512 bits, or 256 where there is no
+// 512-bit one, as in float; "avx512-ymm": 256 bits), else the one of
+// distance_kernels() that sweeps a test colour fastest on this CPU,
+// measured at the first call and kept for the process (stream.cpp). On
+// an AMD EPYC (Zen 4) the 256-bit AVX-512 kernel was the fastest, and the
+// 512-bit one 0.8 times as fast as AVX2; on an Intel Xeon the 512-bit one
+// was 1.3-1.5 times as fast as AVX2 (docs/bench-coloured.md).
+PairKernel distance_avx512_kernel();
 // The Distance colours' threshold: 256 elements are about 0.75 us of
 // AVX-512 work, as much as handing out an empty job to two threads (about
 // 0.75 us); see kMinParticlesPerTask.

@@ -4,8 +4,9 @@
 // (and -ffp-contract=off, no FMA), it is called only on a CPU that reports
 // AVX-512F, and the records are loaded whole and transposed in registers,
 // no gather or scatter. Two or four records share a register (one per
-// 256- or 128-bit part) and are transposed there. In float, the Distance sweep keeps the AVX2
-// kernel (stream.cpp): this one was no faster there.
+// 256- or 128-bit part) and are transposed there. In float there is no
+// Distance kernel here: the 512-bit one was no faster than AVX2 there
+// (stream.cpp runs stream_avx512_ymm.cpp's or AVX2's).
 #include <immintrin.h>
 
 #include "dihedral_kernel.hpp"
@@ -39,6 +40,7 @@ struct Avx512Lane {
   static bool all(M p) { return p == 0xff; }
   static bool none(M p) { return p == 0; }
   static Avx512Lane select(M m, Avx512Lane p, Avx512Lane q) { return Avx512Lane(_mm512_mask_blend_pd(m, q.v, p.v)); }
+  static Avx512Lane keep(M m, Avx512Lane p) { return Avx512Lane(_mm512_maskz_mov_pd(m, p.v)); }
   // 8 records (x, y, z, w) -> x, y, z, w of 8 lanes: records l and l + 4
   // share a register (low and high 256 bits), unpacked per 128-bit part,
   // then each component's pairs gathered by one two-source permute.
@@ -103,6 +105,7 @@ struct Avx512Lane {
   static bool all(M p) { return p == 0xffff; }
   static bool none(M p) { return p == 0; }
   static Avx512Lane select(M m, Avx512Lane p, Avx512Lane q) { return Avx512Lane(_mm512_mask_blend_ps(m, q.v, p.v)); }
+  static Avx512Lane keep(M m, Avx512Lane p) { return Avx512Lane(_mm512_maskz_mov_ps(m, p.v)); }
   // 16 records (x, y, z, w) -> x, y, z, w of 16 lanes: records l, l + 4,
   // l + 8 and l + 12 share a register (one per 128-bit part), then a 4x4
   // transpose per part, as the AVX2 float lane does per half.

@@ -2,8 +2,9 @@
 // The coloured XPBD Distance kernel over a DistanceStream
 // (distance_stream.hpp), written once for any lane type V: the scalar
 // kernel (ScalarLane below, one element at a time), the AVX2 kernel
-// (stream_avx2.cpp, 8 floats or 4 doubles at a time) and the AVX-512 one
-// (stream_avx512.cpp, 16 floats or 8 doubles) instantiate it.
+// (stream_avx2.cpp, 8 floats or 4 doubles at a time), the same width with
+// AVX-512VL (stream_avx512_ymm.cpp) and the 512-bit one (stream_avx512.cpp,
+// 8 doubles) instantiate it.
 //
 // Per element, with w the inverse masses, d = x_a - x_b, L = |d| (the
 // update of project_pair_distance in solve.hpp, sign +1):
@@ -66,6 +67,7 @@ struct ScalarLane {
   static bool all(M p) { return p; }
   static bool none(M p) { return !p; }
   static ScalarLane select(M m, ScalarLane p, ScalarLane q) { return m ? p : q; }
+  static ScalarLane keep(M m, ScalarLane p) { return m ? p : ScalarLane(Real(0)); }
   // Records r[0..N) -> components.
   static void load_records(const Real* const* r, ScalarLane& x, ScalarLane& y, ScalarLane& z, ScalarLane& w) {
     x.v = r[0][0], y.v = r[0][1], z.v = r[0][2], w.v = r[0][3];
@@ -113,17 +115,20 @@ template <class V, bool kDamped, bool kFirst>
   V::load_records(ra, xa, ya, za, wa);
   V::load_records(rb, xb, yb, zb, wb);
   const V rest = V::load(s.rest + j);
-  const V at = V::load(s.at + j);
   const V inv_den = V::load(s.inv_den + j);
   const V lam = kFirst ? V(Real(0)) : V::load(s.lambda + j);
-  const typename V::M den_ok = V::gt(inv_den, V(Real(0)));
-  const V num0 = rest - at * lam;
+  // at * +0 is +0 (at is finite: 0 where the element is left alone,
+  // prepare_stream), so the first sweep need not read at.
+  const V num0 = kFirst ? rest : rest - V::load(s.at + j) * lam;
 
   // Dependent on the positions.
   const V dx = xa - xb, dy = ya - yb, dz = za - zb;
   const V q = (dx * dx + dy * dy) + dz * dz;
   const V len = sqrt(q);
-  const typename V::M ok = V::both(den_ok, V::gt(len, V(kDegenerateRel) * rest));
+  // An element with inv_den = 0 (left alone) needs no test: at and gamma
+  // are 0 there (prepare_stream), so num is finite and dl = num * 0 is
+  // +-0, whose updates change no bit (below).
+  const typename V::M ok = V::gt(len, V(kDegenerateRel) * rest);
   // len * (1/q) rather than 1/len (the division beside the square root),
   // except where q is subnormal and 1/q would overflow (lengths below about
   // 1e-154 m in double): only then is 1/len computed as well.
@@ -134,13 +139,17 @@ template <class V, bool kDamped, bool kFirst>
   if constexpr (kDamped) {
     num = num - (V::load(s.gamma + j) * inv_len) * damping_dot<V>(s, j, xa, ya, za, xb, yb, zb, dx, dy, dz);
   }
+  // An element left alone (not ok) gets +0 for dl and for the two
+  // factors, whatever num, inv_den and 1/L hold there (1/L is not finite
+  // for L = 0): a mask each, where a blend per result took a fifth of the
+  // kernel's time. lambda + 0 is lambda (never -0), and x + 0 dx is x, as
+  // for the elements between two pinned particles (w = 0), bar a
+  // coordinate of -0, which becomes +0.
   const V dl = num * inv_den;
-  V::store(s.lambda + j, V::select(ok, lam + dl, lam));
-  const V sa = dl * (wa * inv_len), sb = dl * (wb * inv_len);
-  V::store_records(ra, V::select(ok, xa + sa * dx, xa), V::select(ok, ya + sa * dy, ya),
-                   V::select(ok, za + sa * dz, za), wa);
-  V::store_records(rb, V::select(ok, xb - sb * dx, xb), V::select(ok, yb - sb * dy, yb),
-                   V::select(ok, zb - sb * dz, zb), wb);
+  V::store(s.lambda + j, lam + V::keep(ok, dl));
+  const V sa = V::keep(ok, dl * (wa * inv_len)), sb = V::keep(ok, dl * (wb * inv_len));
+  V::store_records(ra, xa + sa * dx, ya + sa * dy, za + sa * dz, wa);
+  V::store_records(rb, xb - sb * dx, yb - sb * dy, zb - sb * dz, wb);
 }
 
 // Elements [lo, hi) of one colour: V::N at a time, the rest one by one.
@@ -178,5 +187,6 @@ inline void project_stream_variant(const StreamArgs& s, std::size_t lo, std::siz
 void project_stream_scalar(const StreamArgs& s, std::size_t lo, std::size_t hi, bool damped, bool first);
 void project_stream_avx2(const StreamArgs& s, std::size_t lo, std::size_t hi, bool damped, bool first);
 void project_stream_avx512(const StreamArgs& s, std::size_t lo, std::size_t hi, bool damped, bool first);  // double only
+void project_stream_avx512_ymm(const StreamArgs& s, std::size_t lo, std::size_t hi, bool damped, bool first);
 
 }  // namespace xpbd::detail

@@ -20,12 +20,13 @@
 // library was built for x86-64, AVX-512 (16 floats or 8 doubles at a time)
 // when the CPU reports AVX-512F, else AVX2 when it reports AVX2; the
 // scalar kernel otherwise (or with StepConfig::simd = false). The Distance
-// sweep is the exception (distance_kernel()): in float it runs AVX2 where
-// the CPU has AVX-512 too (the AVX-512 kernel was no faster there); in
-// double it runs whichever of AVX-512 and AVX2 swept a test colour faster
-// on this CPU, timed once per process at its first sweep (AVX-512 on an
-// Intel Xeon, 1.3-1.5 times as fast; AVX2 on an AMD EPYC, where AVX-512
-// was 0.8 times as fast). All do the
+// sweep is the exception (distance_kernel()): where the CPU has AVX-512,
+// it runs whichever of its vector kernels swept a test colour fastest on
+// this CPU, timed once per process at its first sweep: AVX2, AVX-512 at
+// AVX2's width (8 floats or 4 doubles, with AVX-512VL's mask registers and
+// 32 vector registers; "avx512-ymm"), and in double AVX-512 at 512 bits
+// (1.3-1.5 times AVX2 on an Intel Xeon; on an AMD EPYC 0.8 times, where
+// the 256-bit one was the fastest). All do the
 // same floating-point operations in the same order on every element,
 // without fused multiply-adds, so they give the same results bit for bit
 // (tests/unit/test_distance_stream.cpp).
@@ -80,20 +81,23 @@ void project_tether_stream(const Model& m, State& s, const SolveContext& sc, boo
 // float Distance sweep).
 const char* simd_kernel();
 
-// "avx512", "avx2" or "scalar": the kernel step() runs for the coloured
-// XPBD Distance sweep with StepConfig::simd on (see above; the one
-// set_simd_kernel names, if it named one). The first call may time the two
-// vector kernels (about a millisecond), if no sweep has yet.
+// "avx512", "avx512-ymm", "avx2" or "scalar": the kernel step() runs for
+// the coloured XPBD Distance sweep with StepConfig::simd on (see above;
+// the one set_simd_kernel names, if it named one). The first call may time
+// the vector kernels (about a millisecond), if no sweep has yet.
 const char* distance_kernel();
 
 // Caps the kernel of the coloured sweeps for the whole process at `name`
 // ("avx512", "avx2" or "scalar"), the Distance sweep's included: a named
-// kernel is run, not measured against another. "auto" is the start: no
-// cap, the widest kernel there is, and the Distance sweep's measured
-// choice (see above). Every kernel gives the same bits, so this changes
-// speed only: it exists to measure the kernels against each other in one
-// run. Throws ConfigError, naming the value, for another name or for a
-// kernel this build or CPU does not have.
+// kernel is run, not measured against another ("avx512" runs the 512-bit
+// Distance kernel in double, and the 256-bit AVX-512 one in float, which
+// has no 512-bit one). "avx512-ymm" is "avx512" with the Distance sweep on
+// its 256-bit AVX-512 kernel. "auto" is the start: no cap, the widest
+// kernel there is, and the Distance sweep's measured choice (see above).
+// Every kernel gives the same bits, so this changes speed only: it exists
+// to measure the kernels against each other in one run. Throws
+// ConfigError, naming the value, for another name or for a kernel this
+// build or CPU does not have.
 void set_simd_kernel(const std::string& name);
 
 }  // namespace xpbd
