@@ -242,7 +242,7 @@ void XpbdWorld::edge_contacts_of(const System& s, std::size_t k, btScalar dt, co
     // fastened under a crate): a soft edge there is held out of the body
     // with no thickness, so that it does not pass through the body's edge
     // (a cloth hanging from a bar wrapped around the bar's long edge:
-    // docs/squeeze.md) and does not lift the body off the particles either.
+    // docs/squeeze-surface-edges.md) and does not lift the body off the particles either.
     const auto held = [&](Index p) {
       if (attached(s, cand.obj, p)) return true;
       for (int q = s.edge_begin[std::size_t(p)]; q < s.edge_begin[std::size_t(p) + 1]; ++q) {

@@ -27,7 +27,7 @@
 //      another body is pushed out of that one by step 2, and the nearest
 //      way out can be into its own body, where nothing pushes it out again
 //      (it has no contact with the body it is attached to; the squeeze
-//      application's bar had one 8.9 mm inside, docs/squeeze.md). Put back
+//      application's bar had one 8.9 mm inside, docs/squeeze-surface-edges.md). Put back
 //      at its point, it is inside the other body, which step 5 moves out;
 //   5. with ContactSettings::wedges, each dynamic body that a particle is
 //      still inside is moved out of it (below). Step 1 is not made again

@@ -121,7 +121,7 @@ TEST(Settle, RigidAttachmentIsAtItsPointAfterBulletMovesTheBody) {
 // out of the small box, and the nearest way out is back into the coupled
 // box, where nothing pushes it out again (it has no contact with the box
 // it is attached to). The squeeze application's bar did this
-// (docs/squeeze.md, 2026-11-29). The attachment has the last word: every
+// (docs/squeeze-surface-edges.md, 2026-11-29). The attachment has the last word: every
 // frame ends with the particle at its point.
 TEST(Settle, RigidAttachmentStaysAtItsPointWhenAnotherBodySqueezesTheParticle) {
   BulletWorld bw(Vec3::Zero());
