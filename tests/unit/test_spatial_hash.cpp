@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <random>
 #include <set>
@@ -109,6 +110,41 @@ TEST(SpatialHash, NonFinitePointIsNeverAPair) {
   std::sort(got.begin(), got.end());
   EXPECT_EQ(got, ref);
   EXPECT_EQ(brute_force(x, Real(0.2)), ref);
+}
+
+// cell_at against its definition: std::floor of x / cell (as x * inv_cell),
+// clamped to [-2^30, 2^30], NaN to -2^30. Integers, their neighbours on
+// both sides, -0, values past the clamp, infinities, NaN, and random values.
+TEST(SpatialHash, CellIsTheClampedFloor) {
+  const auto reference = [](Real v) {
+    const Real f = std::floor(v);
+    const Real lim = detail::kMaxCell;
+    return static_cast<std::int32_t>(!(f >= -lim) ? -lim : (f > lim ? lim : f));
+  };
+  std::vector<Real> values = {Real(0), -Real(0), Real(0.5), Real(-0.5), Real(1e-30), Real(-1e-30),
+                              detail::kMaxCell, -detail::kMaxCell, Real(2) * detail::kMaxCell,
+                              -Real(2) * detail::kMaxCell, Real(1e30), Real(-1e30),
+                              std::numeric_limits<Real>::infinity(), -std::numeric_limits<Real>::infinity(),
+                              std::numeric_limits<Real>::quiet_NaN(), std::numeric_limits<Real>::max(),
+                              std::numeric_limits<Real>::lowest(), std::numeric_limits<Real>::denorm_min(),
+                              -std::numeric_limits<Real>::denorm_min()};
+  for (const Real k : {Real(1), Real(2), Real(3), Real(1000), Real(1 << 23), Real(1 << 24), Real(1 << 29),
+                       detail::kMaxCell - 1})
+    for (const Real s : {Real(1), Real(-1)}) {
+      values.push_back(s * k);
+      values.push_back(std::nextafter(s * k, Real(0)));
+      values.push_back(std::nextafter(s * k, s * std::numeric_limits<Real>::infinity()));
+    }
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1e4, 1e4);
+  for (int i = 0; i < 2000; ++i) values.push_back(Real(u(rng)));
+  for (const Real v : values)
+    for (const Real inv_cell : {Real(1), Real(0.37), Real(8)}) {
+      const Cell c = detail::cell_at(Vec3(v, -v, v * Real(0.5)), inv_cell);
+      EXPECT_EQ(c[0], reference(v * inv_cell)) << "x = " << v << ", inv_cell = " << inv_cell;
+      EXPECT_EQ(c[1], reference(-v * inv_cell)) << "x = " << -v << ", inv_cell = " << inv_cell;
+      EXPECT_EQ(c[2], reference((v * Real(0.5)) * inv_cell)) << "x = " << v * Real(0.5) << ", inv_cell = " << inv_cell;
+    }
 }
 
 // ---------------------------------------------------------------------------
