@@ -337,57 +337,84 @@ void XpbdWorld::step_system(System& s, btScalar dt) {
     }
 
     // Each candidate's contacts, on the threads of the system's pool if it
-    // has one, then joined in candidate order: the particle contacts first,
-    // then the feature-triangle ones, each candidate's body indexed at its
-    // first contact. The contacts, their order and the bodies' indices are
-    // those of one thread whatever the pool
+    // has one, in candidate order: the particle contacts first, then the
+    // feature-triangle ones, then the edge ones, each candidate's body
+    // indexed at its first contact. The contacts, their order and the
+    // bodies' indices are those of one thread whatever the pool
     // (WorldCulling.ThreadsGiveTheSameContactsBitForBit).
     if (triangles && std::any_of(sc.candidates.begin(), sc.candidates.end(), [](const detail::Candidate& c) {
           return detail::may_have_features(*c.obj);
         }))
       triangle_bounds(s, dt);
     const std::size_t nc = sc.candidates.size();
-    if (s.found.size() < nc) s.found.resize(nc);
     const int slots =
         set.workers ? static_cast<int>(std::min<std::size_t>(std::size_t(set.workers->threads()), nc)) : 1;
     if (s.feature_scratch.size() < std::size_t(slots)) s.feature_scratch.resize(std::size_t(slots));
-    detail::for_each_candidate(set.workers, nc, slots, [&](std::size_t k, int slot) {
-      CandidateContacts& out = s.found[k];
-      out.clear();
+    const auto search = [&](std::size_t k, int slot, CandidateContacts& out) {
       particle_contacts_of(s, k, dt, out);
       if (triangles) triangle_contacts_of(s, k, dt, lo, hi, s.feature_scratch[std::size_t(slot)], out);
       if ((triangles && cs.edge_contacts) || surface_edges) edge_contacts_of(s, k, dt, lo, hi, s.feature_scratch[std::size_t(slot)], out);
-    });
-    for (std::size_t k = 0; k < nc; ++k) {
-      CandidateContacts& f = s.found[k];
+    };
+    const auto sizes = [&st]() {
+      return std::array<std::size_t, 3>{st.contacts.size(), st.triangle_contacts.size(), st.edge_contacts.size()};
+    };
+    s.found_at.resize(nc + 1);
+    const auto count = [this](const CandidateContacts& f) {
       stats_.queries += f.queries;
-      if (f.particle.empty()) continue;
-      const Index body = body_index(s, sc.candidates[k].obj, dt);
-      for (xpbd::BodyContact& c : f.particle) c.body = body;
-      st.contacts.insert(st.contacts.end(), f.particle.begin(), f.particle.end());
+      stats_.swept_triangle_contacts += f.swept;
+      stats_.capped_features += f.capped;
+    };
+    if (set.workers == nullptr || slots < 2 || nc < 2) {
+      // One thread: the search appends to the state's own lists, a range
+      // per candidate (one copy fewer than the join below).
+      if (s.found.empty()) s.found.resize(1);
+      CandidateContacts& all = s.found[0];
+      all.clear();
+      all.particle.swap(st.contacts);
+      all.triangle.swap(st.triangle_contacts);
+      all.edge.swap(st.edge_contacts);
+      for (std::size_t k = 0; k < nc; ++k) {
+        s.found_at[k] = {all.particle.size(), all.triangle.size(), all.edge.size()};
+        search(k, 0, all);
+      }
+      all.particle.swap(st.contacts);
+      all.triangle.swap(st.triangle_contacts);
+      all.edge.swap(st.edge_contacts);
+      count(all);
+    } else {
+      if (s.found.size() < nc) s.found.resize(nc);
+      detail::for_each_candidate(set.workers, nc, slots, [&](std::size_t k, int slot) {
+        s.found[k].clear();
+        search(k, slot, s.found[k]);
+      });
+      for (std::size_t k = 0; k < nc; ++k) {
+        const CandidateContacts& f = s.found[k];
+        s.found_at[k] = sizes();
+        st.contacts.insert(st.contacts.end(), f.particle.begin(), f.particle.end());
+        st.triangle_contacts.insert(st.triangle_contacts.end(), f.triangle.begin(), f.triangle.end());
+        st.edge_contacts.insert(st.edge_contacts.end(), f.edge.begin(), f.edge.end());
+        count(f);
+      }
     }
+    s.found_at[nc] = sizes();
+    // The bodies' indices: candidate k's contacts of list `which` are
+    // [found_at[k][which], found_at[k + 1][which]).
+    const auto index_bodies = [&](auto& list, std::size_t which) {
+      for (std::size_t k = 0; k < nc; ++k) {
+        const std::size_t b = s.found_at[k][which], e = s.found_at[k + 1][which];
+        if (b == e) continue;
+        const Index body = body_index(s, sc.candidates[k].obj, dt);
+        for (std::size_t i = b; i < e; ++i) list[i].body = body;
+      }
+    };
+    index_bodies(st.contacts, 0);
     stats_.contacts += static_cast<int>(st.contacts.size());
     if (triangles) {
-      for (std::size_t k = 0; k < nc; ++k) {
-        CandidateContacts& f = s.found[k];
-        stats_.swept_triangle_contacts += f.swept;
-        stats_.capped_features += f.capped;
-        if (f.triangle.empty()) continue;
-        const Index body = body_index(s, sc.candidates[k].obj, dt);
-        for (xpbd::BodyTriangleContact& c : f.triangle) c.body = body;
-        st.triangle_contacts.insert(st.triangle_contacts.end(), f.triangle.begin(), f.triangle.end());
-      }
+      index_bodies(st.triangle_contacts, 1);
       stats_.triangle_contacts += static_cast<int>(st.triangle_contacts.size());
     }
     if (triangles || surface_edges) {
-      for (std::size_t k = 0; k < nc; ++k) {
-        CandidateContacts& f = s.found[k];
-        if (!triangles) stats_.capped_features += f.capped;
-        if (f.edge.empty()) continue;
-        const Index body = body_index(s, sc.candidates[k].obj, dt);
-        for (xpbd::BodyEdgeContact& c : f.edge) c.body = body;
-        st.edge_contacts.insert(st.edge_contacts.end(), f.edge.begin(), f.edge.end());
-      }
+      index_bodies(st.edge_contacts, 2);
       stats_.edge_contacts += static_cast<int>(st.edge_contacts.size());
     }
     const auto t1 = std::chrono::steady_clock::now();

@@ -306,6 +306,9 @@ struct XpbdWorld::System {
   std::vector<xpbd::RigidBody> free_bodies;  // scratch: bodies moved without contacts
   detail::ContactScratch contact;            // scratch of the contact search
   std::vector<CandidateContacts> found;      // scratch: per candidate, what the search found
+  // scratch: where each candidate's contacts start in the state's lists
+  // (particle, triangle, edge), and one past the last candidate's
+  std::vector<std::array<std::size_t, 3>> found_at;
   std::vector<FeatureScratch> feature_scratch;  // scratch: per thread of the search
   std::unique_ptr<detail::TriangleBvh> tri_bvh;  // ContactSettings::triangle_bvh_from; made on first use
   // The collision triangles' edges, each once, and each triangle's three
