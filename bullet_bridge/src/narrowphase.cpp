@@ -544,6 +544,24 @@ void candidates(btCollisionWorld& world, const Vec3& lo, const Vec3& hi,
 namespace detail {
 
 // Declared in world_impl.hpp (XpbdWorld's contact search).
+bool is_primitive(const btCollisionShape& shape) {
+  switch (kind_of(shape)) {
+    case Kind::Sphere:
+    case Kind::Box:
+    case Kind::Capsule:
+    case Kind::Cylinder:
+    case Kind::Plane: return true;
+    default: return false;
+  }
+}
+
+bool query_primitive_local(const btCollisionShape& shape, const Vec3& p, Real max_distance, ParticleContact& out) {
+  const Local l = primitive_local(kind_of(shape), shape, p);
+  if (l.distance > max_distance) return false;
+  out = {l.point, l.normal, l.distance};
+  return true;
+}
+
 void add_moving_candidates(btCollisionWorld& world, const Vec3& lo, const Vec3& hi, Real dt, int filter_group,
                            int filter_mask, std::vector<const btCollisionObject*>& out) {
   const btCollisionObjectArray& objects = world.getCollisionObjectArray();

@@ -156,6 +156,14 @@ void XpbdWorld::particle_contacts_of(const System& s, std::size_t k, btScalar dt
   const bool has_attached = std::any_of(attachments_.begin(), attachments_.end(), [&](const Attachment& a) {
     return a.system == s.id && a.body == obj;
   });
+  // A primitive shape (sphere, box, capsule, cylinder, plane) is queried
+  // in its own frame, which is the body's, when the sweep is not taken:
+  // the contact then keeps the point and normal of that frame, which the
+  // general path takes out to world coordinates and back (equal up to
+  // round-off; docs/search-costs.md).
+  const btCollisionShape& shape = *obj->getCollisionShape();
+  const bool primitive = detail::is_primitive(shape);
+  const btTransform& pose = obj->getWorldTransform();
   // The culled pairs of this candidate, or every particle.
   const Index* const listed = sc.particles.data() + (cs.cull ? sc.pair_begin[k] : 0);
   const Index count = cs.cull ? sc.pair_begin[k + 1] - sc.pair_begin[k] : n;
@@ -174,6 +182,11 @@ void XpbdWorld::particle_contacts_of(const System& s, std::size_t k, btScalar dt
     const Real travel = dt * ((st.v[i] - cand.vb).norm() + cand.ab + cand.wb * cand.extent);
     ParticleContact c;
     const Real reach = thick + cs.margin + (cand.by_motion ? Real(0) : travel);
+    if (primitive && !(travel > cs.margin) && std::isfinite(reach)) {  // else query_point names the bad value
+      if (!detail::query_primitive_local(shape, to_vec(pose.invXform(to_bt(x))), reach, c)) continue;
+      out.particle.push_back(detail::body_contact_local(cs, *obj, i, -1, thick, c));
+      continue;
+    }
     if (!detail::particle_query(*obj, x, dt * (st.v[i] - cand.vb), travel, reach, cs.margin, c)) continue;
     out.particle.push_back(detail::body_contact(cs, *obj, i, -1, thick, cand.pose_inv, c));
   }

@@ -116,6 +116,13 @@ struct ProbeLoad {
 // fixed, and puts back everything the solve wrote (world_probe.cpp).
 void probe_loads(btDiscreteDynamicsWorld& world, std::vector<ProbeLoad>& bodies, btScalar dt);
 
+// True for the shapes query_point answers in closed form in their own
+// frame: sphere, box, capsule, cylinder, plane (not a compound).
+bool is_primitive(const btCollisionShape& shape);
+// query_point's answer for such a shape at p in the shape's own frame,
+// with point and normal in that frame (narrowphase.cpp).
+bool query_primitive_local(const btCollisionShape& shape, const Vec3& p, Real max_distance, ParticleContact& out);
+
 // The narrowphase of one particle against obj: x is the particle at the
 // pose Bullet's shape is at, `motion` its motion relative to the body over
 // the time the contact covers, `travel` a bound on that motion's length.
@@ -129,16 +136,15 @@ inline bool particle_query(const btCollisionObject& obj, const Vec3& x, const Ve
 }
 
 // The contact of `particle` with State::bodies[body] (obj) from the
-// narrowphase's c, at the pose `pose_inv` inverts; thick: the particle's
-// radius plus the thickness.
-inline xpbd::BodyContact body_contact(const ContactSettings& cs, const btCollisionObject& obj, Index particle,
-                                      Index body, Real thick, const btTransform& pose_inv,
-                                      const ParticleContact& c) {
+// narrowphase's c in the body's frame; thick: the particle's radius plus
+// the thickness.
+inline xpbd::BodyContact body_contact_local(const ContactSettings& cs, const btCollisionObject& obj, Index particle,
+                                            Index body, Real thick, const ParticleContact& c) {
   xpbd::BodyContact bc;
   bc.particle = particle;
   bc.body = body;
-  bc.r = to_vec(pose_inv * to_bt(c.point));
-  bc.n = to_vec(pose_inv.getBasis() * to_bt(c.normal));
+  bc.r = c.point;
+  bc.n = c.normal;
   bc.thickness = thick;
   bc.static_friction = cs.static_friction * obj.getFriction();
   bc.dynamic_friction = cs.dynamic_friction * obj.getFriction();
@@ -146,6 +152,15 @@ inline xpbd::BodyContact body_contact(const ContactSettings& cs, const btCollisi
   bc.compliance = cs.compliance;
   return bc;
 }
+
+// The same from c in world coordinates, at the pose `pose_inv` inverts.
+inline xpbd::BodyContact body_contact(const ContactSettings& cs, const btCollisionObject& obj, Index particle,
+                                      Index body, Real thick, const btTransform& pose_inv,
+                                      const ParticleContact& c) {
+  return body_contact_local(cs, obj, particle, body, thick,
+                            {to_vec(pose_inv * to_bt(c.point)), to_vec(pose_inv.getBasis() * to_bt(c.normal)), c.distance});
+}
+
 
 }  // namespace detail
 
