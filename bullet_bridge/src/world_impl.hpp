@@ -161,7 +161,6 @@ inline xpbd::BodyContact body_contact(const ContactSettings& cs, const btCollisi
                             {to_vec(pose_inv * to_bt(c.point)), to_vec(pose_inv.getBasis() * to_bt(c.normal)), c.distance});
 }
 
-
 }  // namespace detail
 
 // One rigid body seen during the current internal step (XpbdWorld::pre_solve,

@@ -37,7 +37,8 @@ class Avx2Cap {
 };
 
 // The cap named by the environment variable XPBD_BENCH_SIMD ("avx512",
-// "avx2", "scalar" or "auto"), for the benchmarks whose rows have no capped twin
+// "avx512-ymm", "avx2", "scalar" or "auto"; any name xpbd::set_simd_kernel
+// takes), for the benchmarks whose rows have no capped twin
 // (bench_scale): the whole run at that kernel. Throws xpbd::ConfigError
 // for a name the library refuses.
 inline void cap_from_environment() {
