@@ -187,7 +187,8 @@ void XpbdWorld::particle_contacts_of(const System& s, std::size_t k, btScalar dt
       out.particle.push_back(detail::body_contact_local(cs, *obj, i, -1, thick, c));
       continue;
     }
-    if (!detail::particle_query(*obj, x, dt * (st.v[i] - cand.vb), travel, reach, cs.margin, c)) continue;
+    const Real ahead = thick + cs.margin + dt * cand.ab;  // particle_query's: the band, and the body's acceleration
+    if (!detail::particle_query(*obj, x, dt * (st.v[i] - cand.vb), travel, reach, ahead, cs.margin, c)) continue;
     out.particle.push_back(detail::body_contact(cs, *obj, i, -1, thick, cand.pose_inv, c));
   }
 }

@@ -80,8 +80,8 @@ void XpbdWorld::refresh_contacts(System& s, btScalar dt, int sub, std::span<cons
       const Vec3 rel = st.v[i] - now.v;
       const Real travel = rest * (rel.norm() + ab + wb * extent);
       ParticleContact c;
-      if (!detail::particle_query(*obj, x, rest * rel, travel, thick + cs.margin + travel, cs.margin, c))
-        continue;
+      const Real ahead = thick + cs.margin + rest * ab;
+      if (!detail::particle_query(*obj, x, rest * rel, travel, thick + cs.margin + travel, ahead, cs.margin, c)) continue;
       if (body < 0) {
         // New in this step: in State::bodies at its state now, and in the
         // contact-free reference over the whole step.
