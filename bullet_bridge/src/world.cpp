@@ -531,6 +531,16 @@ void XpbdWorld::hand_over(btScalar dt, bool late) {
     r.w_pre = keep_w * uw + kick_w;
     r.spread = dt * btScalar(sh.substeps - 1) / btScalar(2 * sh.substeps);
     r.world_contacts = sh.world_contacts;
+    // XPBD's substeps integrated the body's gyroscopic term
+    // (xpbd::rigid::predict_bodies); Bullet's own (on by default since 2.83)
+    // would add it a second time, and its change, taken for a contact's,
+    // would come back a step late as part of contact_ang_accel: a bar landing
+    // on a cloth then rose at 2.2 m/s where it rose at 0.5 without it
+    // (docs/squeeze-surface-edges.md). Off for this step; updateAction puts
+    // the flags back.
+    r.flags = rb->getFlags();
+    rb->setFlags(r.flags & ~(BT_ENABLE_GYROSCOPIC_FORCE_EXPLICIT | BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_WORLD |
+                             BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY));
     residuals_.push_back(r);
   }
   if (timing) {
@@ -555,6 +565,7 @@ void XpbdWorld::updateAction(btCollisionWorld* cw, btScalar dt) {
   predicted_.clear();
   for (const Residual& r : residuals_) {
     btRigidBody* rb = r.body;
+    rb->setFlags(r.flags);
     const btVector3 dv_b = rb->getLinearVelocity() - r.v_end;
     const btVector3 dw_b = rb->getAngularVelocity() - r.w_end;
     btVector3 dx = rb->getLinearFactor() * (r.dx - r.spread * dv_b);

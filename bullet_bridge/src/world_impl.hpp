@@ -441,6 +441,9 @@ struct XpbdWorld::Residual {
   btVector3 v_pre, w_pre;   // velocities Bullet reaches before its contacts: keep u + kick
   btScalar spread = 0;      // s, dt (n-1)/(2n)
   bool world_contacts = false;  // Shadow::world_contacts
+  // The body's flags before the step: its gyroscopic flags are off while
+  // Bullet steps it (XPBD's substeps integrate that term; hand_over).
+  int flags = 0;
 };
 
 // Bullet's contact and joint acceleration on a coupled body in the last

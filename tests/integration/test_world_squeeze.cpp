@@ -86,13 +86,16 @@ TEST_P(Squeeze, BarWithClothAmongFallingBodiesAtTheDefaults) {
   // answers by moving the body. With the bodies placed through the cloth
   // (add_random_bodies) that run had 6 frames deeper than the thickness,
   // 10.8 mm (double); placed clear of it, 1 frame at 5.07 mm in double and
-  // none in float (deepest 1.13 mm, against 0.24 mm at the defaults), so
-  // the comparison asserted is the depth itself.
+  // none in float (deepest 1.13 mm, against 0.24 mm at the defaults). The
+  // two depths were compared here until 2026-11-29: after the gyroscopic
+  // change of that day both float runs were clean, 8.8e-8 m at the fixed
+  // budget against 2.5e-5 m at the defaults, and one run of this chaotic
+  // scene per configuration cannot order two such depths. So it is printed;
+  // the comparison across wrinkle seeds is scripts/squeeze_seeds.sh's.
   const Result fixed = run(bodies, true, 0, true, 0, 1, kFrames, 0, false);
   std::printf("%d bodies, fixed 10 x 1 without wedges: deepest %.4g m, %d frames deeper than the thickness, %d "
               "of them squeezed\n",
               bodies, double(fixed.deepest), fixed.frames_deep, fixed.frames_squeezed);
-  EXPECT_GT(fixed.deepest, with.deepest) << "the defaults' contact target and wedges do not keep the cloth out better";
 }
 
 INSTANTIATE_TEST_SUITE_P(Bodies, Squeeze, ::testing::Values(0, 49));

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <string>
 
+#include <Eigen/LU>
+
 #include "xpbd/constraints_contact.hpp"
 #include "xpbd/error.hpp"
 #include "contact_block.hpp"
@@ -117,6 +119,47 @@ void begin_substep(const Model& m, State& s) {
   }
 }
 
+namespace {
+
+// The torque-free part of Euler's equations, I dw/dt + w x (I w) = 0 in the
+// body frame, over one substep by the implicit midpoint rule,
+//   I (w' - w) + h m x (I m) = 0,  m = (w + w') / 2,
+// solved by Newton's method from w' = w. The rule keeps every quadratic
+// invariant of these equations, the kinetic energy and |I w|, to the
+// solve's tolerance; backward Euler (Bullet's implicit form) took 56 % of
+// the energy of a bar spinning at 50 rad/s out within 2 s (tests/unit/
+// test_rigid_gyroscopic.cpp). Without the term w stayed fixed in the world
+// while the body turned under it, so the angular momentum I_world w did
+// not stay: off by 0.80 of itself within 2 s for that bar. An isotropic
+// body (equal principal inertias: a sphere, a cube) has w x (I w) = 0 and is
+// left alone, as is a body with an infinite inertia about some axis; so is
+// a w the solve does not bring to a finite value.
+constexpr int kGyroscopicNewton = 8;  // iterations at most; 2-3 at a turn of 0.1 rad per substep
+void gyroscopic_step(RigidBody& b, Real h) {
+  const Vec3& k = b.inv_inertia;
+  if (!(k.minCoeff() > Real(0)) || (k.x() == k.y() && k.y() == k.z())) return;
+  const Vec3 inertia = k.cwiseInverse();
+  const Vec3 w = b.q.conjugate() * b.w;  // body frame
+  const auto skew = [](const Vec3& a) {
+    Mat3 m;
+    m << Real(0), -a.z(), a.y(), a.z(), Real(0), -a.x(), -a.y(), a.x(), Real(0);
+    return m;
+  };
+  Vec3 next = w;
+  for (int it = 0; it < kGyroscopicNewton; ++it) {
+    const Vec3 mid = Real(0.5) * (w + next);
+    const Vec3 lm = inertia.cwiseProduct(mid);
+    const Vec3 g = inertia.cwiseProduct(next - w) + h * mid.cross(lm);
+    const Mat3 jacobian = Mat3(inertia.asDiagonal()) + (Real(0.5) * h) * (skew(mid) * inertia.asDiagonal() - skew(lm));
+    const Vec3 d = jacobian.partialPivLu().solve(g);
+    next -= d;
+    if (!(d.norm() > kEpsilon * next.norm())) break;
+  }
+  if (next.allFinite()) b.w = b.q * next;
+}
+
+}  // namespace
+
 void predict_bodies(std::vector<RigidBody>& bodies, Real h) {
   for (RigidBody& b : bodies) {
     b.x_prev = b.x;
@@ -124,6 +167,7 @@ void predict_bodies(std::vector<RigidBody>& bodies, Real h) {
     if (b.inv_mass > Real(0)) {
       b.v += h * b.accel;
       b.w += h * b.ang_accel;
+      gyroscopic_step(b, h);
     }
     b.x += h * b.v;
     const Quat dq(Real(0), b.w.x(), b.w.y(), b.w.z());
@@ -498,7 +542,14 @@ void update_body_velocities(std::vector<RigidBody>& bodies, Real h, Real blend) 
     b.v = (b.x - b.x_prev) * inv_h;
     Quat dq = b.q * b.q_prev.conjugate();
     if (dq.w() < Real(0)) dq.coeffs() = -dq.coeffs();
-    b.w = (Real(2) * inv_h) * dq.vec();
+    // The inverse of predict_bodies' step q' = normalize(q + h/2 [w, 0] q),
+    // whose rotation is dq = (1, h w / 2) normalized: w = (2/h) vec(dq) / dq.w.
+    // Read back without the division, (2/h) vec(dq), a free spin lost a
+    // factor sqrt(1 + (h w / 2)^2) of its rate in every substep: a bar
+    // spinning at 50 rad/s at 600 Hz kept 35 % of it after 2 s.
+    // A turn of more than 120 degrees in one substep, which that step does
+    // not resolve, is read back with dq.w taken as 1/2: bounded.
+    b.w = (Real(2) * inv_h / std::max(dq.w(), Real(0.5))) * dq.vec();
     if (blend < Real(1) && b.inv_mass > Real(0)) {
       b.v = v_pred + blend * (b.v - v_pred);
       b.w = w_pred + blend * (b.w - w_pred);

@@ -22,8 +22,9 @@ void contacts_added(const Model& m, State& s, std::size_t first_contact, std::si
 // multipliers. Call before predict.
 void begin_substep(const Model& m, State& s);
 
-// x_prev = x, q_prev = q; for dynamic bodies v += h accel, w += h ang_accel;
-// then x += h v, q += h/2 [w, 0] q (normalized).
+// x_prev = x, q_prev = q; for dynamic bodies v += h accel, w += h ang_accel,
+// and w's torque-free change (the gyroscopic term, implicit; not for an
+// isotropic body); then x += h v, q += h/2 [w, 0] q (normalized).
 void predict_bodies(std::vector<RigidBody>& bodies, Real h);
 
 // One Gauss-Seidel pass over body attachments, then body contacts (normal
