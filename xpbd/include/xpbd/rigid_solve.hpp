@@ -80,7 +80,9 @@ Real deepest_contact_violation(const State& s, Real h);
 // State::body_contact_impulse (after the solve, before the velocity stage).
 void collect_contact_impulses(State& s, Real h);
 
-// v = (x - x_prev)/h and w from the quaternion change. With blend < 1 (a
+// v = (x - x_prev)/h and w from the quaternion change dq = q q_prev^-1 as
+// (2/h) vec(dq) / dq.w, the exact inverse of predict_bodies' rotation step
+// (dq.w taken as at least 1/2). With blend < 1 (a
 // time step that shrank, step.cpp), a dynamic body keeps its predicted
 // velocity plus only `blend` of the change the solve made to it.
 void update_body_velocities(std::vector<RigidBody>& bodies, Real h, Real blend = 1);
