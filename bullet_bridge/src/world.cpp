@@ -535,9 +535,9 @@ void XpbdWorld::hand_over(btScalar dt, bool late) {
     // (xpbd::rigid::predict_bodies); Bullet's own (on by default since 2.83)
     // would add it a second time, and its change, taken for a contact's,
     // would come back a step late as part of contact_ang_accel: a bar landing
-    // on a cloth then rose at 2.2 m/s where it rose at 0.5 without it
-    // (docs/squeeze-surface-edges.md). Off for this step; updateAction puts
-    // the flags back.
+    // on a cloth at 270 substeps rose at 2.16 m/s with it and 0.53 m/s
+    // without it (docs/squeeze-surface-edges.md). Off for this step;
+    // updateAction puts the flags back.
     r.flags = rb->getFlags();
     rb->setFlags(r.flags & ~(BT_ENABLE_GYROSCOPIC_FORCE_EXPLICIT | BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_WORLD |
                              BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY));
