@@ -85,11 +85,14 @@ struct ContactSettings {
   // 12,312 to 6,174 in double, and such edges through a body from 50,622 to
   // 4,545; a 1000 kg box landing on its edge on a cloth on the ground
   // stretched it by 0.04 and 0.06 (tilted 0.3 and 0.6 rad) with it, 0.07
-  // and 0.15 without. Off by default: one run of the 32 left a particle 8.9
-  // mm (double) or 12.3 mm (float) inside a body, where the defaults leave
-  // none; on 2026-11-28 in float, 3 of the 32 runs threw the bar off, and a
-  // box resting under a cloth at 100 substeps sank 1.5 mm in one step
-  // (docs/squeeze.md, "Not on by default yet").
+  // and 0.15 without. Off by default so far: one run of the 32 left a
+  // particle 8.9 mm (double) or 12.3 mm (float) inside a body, where the
+  // defaults leave none (docs/squeeze.md, "Not on by default yet"). Since
+  // the gyroscopic change of 2026-11-29 the same campaign with it left none
+  // in either build, and had a third (double) or a half (float) of the
+  // frames with an edge over 20 %, at 1.41-1.48 times the wall time
+  // (docs/squeeze-surface-edges.md, "Surface edges after the gyroscopic
+  // change").
   bool surface_edge_contacts = false;
   // From this many collision_triangles on (>= 0), the rigid features are
   // matched with the triangles through a bounding volume hierarchy of the
