@@ -12,6 +12,10 @@
 #   BUILD_DIR=build/float scripts/squeeze_seeds.sh
 #   scripts/squeeze_seeds.sh --surface-edges    with ContactSettings::surface_edge_contacts
 #   scripts/squeeze_seeds.sh --strain 0.2       with the tolerance's strain target (SystemSettings::tolerance.strain)
+#   scripts/squeeze_seeds.sh --substeps 30      SystemSettings::substeps 30 instead of the default
+#   scripts/squeeze_seeds.sh --iterations 2     Gauss-Seidel sweeps per substep (SystemSettings::iterations)
+#   scripts/squeeze_seeds.sh --contact-sweeps 8 extra sweeps where contacts need them (SystemSettings::contact_sweeps)
+#   scripts/squeeze_seeds.sh --hierarchy        SystemSettings::hierarchy (--alternate-sweeps: alternate_sweeps)
 #   scripts/squeeze_seeds.sh --seeds 5-8        wrinkle seeds 5 to 8 only (--seeds 5: one seed)
 set -euo pipefail
 cd "$(dirname "$0")/.."

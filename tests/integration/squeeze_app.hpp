@@ -4,6 +4,7 @@
 // ground plane, a 2 kg bar with a 24 x 24 cloth of 0.4 kg hanging from it by
 // three attachments, and 0 or 49 random rigid bodies falling around it; 600
 // frames at 60 Hz, measured every frame.
+#include <functional>
 #include <vector>
 
 #include "support.hpp"
@@ -81,11 +82,13 @@ xpbd_bullet::SystemId add_cloth(XpbdWorld& xw, btRigidBody* bar, const SystemSet
 // the tolerance's contact target (SystemSettings::tolerance, m, 0 = off:
 // the fixed budget); wedges: ContactSettings::wedges; surface_edges:
 // ContactSettings::surface_edge_contacts; strain: the tolerance's strain
-// target (SystemSettings::tolerance.strain, 0 = off).
+// target (SystemSettings::tolerance.strain, 0 = off); tweak: called on
+// the system's settings last, for any other setting (the campaign's flags).
 Result run(int bodies, bool cloth, int contact_sweeps = 0, bool after_solve = true, int substeps = 0,
            unsigned wrinkle_seed = 1, int frames = kFrames,
            double penetration = SystemSettings{}.tolerance.penetration, bool wedges = true,
            bool surface_edges = xpbd_bullet::ContactSettings{}.surface_edge_contacts,
-           double strain = SystemSettings{}.tolerance.strain);
+           double strain = SystemSettings{}.tolerance.strain,
+           const std::function<void(SystemSettings&)>& tweak = {});
 
 }  // namespace xpbd_bullet::test::squeeze

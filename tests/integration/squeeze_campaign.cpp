@@ -3,10 +3,15 @@
 // (squeeze_app.hpp) with 49 bodies over wrinkle seeds 1-32 at the defaults,
 // one line per seed.
 //
-//   xpbd_squeeze_campaign [--surface-edges] [--strain S] [--seeds A-B]
+//   xpbd_squeeze_campaign [--surface-edges] [--strain S] [--substeps N] [--iterations N]
+//                         [--contact-sweeps N] [--hierarchy] [--alternate-sweeps] [--seeds A-B]
 //
 // --surface-edges: ContactSettings::surface_edge_contacts on.
 // --strain S: the tolerance's strain target S (SystemSettings::tolerance.strain, > 0).
+// --substeps N: SystemSettings::substeps N (1 <= N <= 1000) instead of the default.
+// --iterations N: SystemSettings::iterations N (1 <= N <= 1000).
+// --contact-sweeps N: SystemSettings::contact_sweeps N (0 <= N <= 1000).
+// --hierarchy, --alternate-sweeps: SystemSettings::hierarchy, alternate_sweeps on.
 // --seeds A-B: wrinkle seeds A to B (1 <= A <= B), or one seed: --seeds A.
 #include <cstdio>
 #include <cstdlib>
@@ -18,7 +23,7 @@
 namespace {
 
 // A whole positive number, or 0 if `s` is not one.
-unsigned parse_seed(const std::string& s) {
+unsigned parse_whole(const std::string& s) {
   if (s.empty() || s.size() > 6 || s.find_first_not_of("0123456789") != std::string::npos) return 0;
   return unsigned(std::stoul(s));
 }
@@ -31,9 +36,13 @@ int main(int argc, char** argv) {
   bool surface_edges = xpbd_bullet::ContactSettings{}.surface_edge_contacts;
   double strain = SystemSettings{}.tolerance.strain;
   unsigned first = 1, last = 32;
+  int substeps = 0;  // run(): 0 for the default
+  SystemSettings other;  // the settings run() takes from the flags through its tweak
   const auto usage = [](const char* why, const char* arg) {
-    std::fprintf(stderr, "xpbd_squeeze_campaign: %s '%s' (usage: [--surface-edges] [--strain S] [--seeds A-B])\n", why,
-                 arg);
+    std::fprintf(stderr,
+                 "xpbd_squeeze_campaign: %s '%s' (usage: [--surface-edges] [--strain S] [--substeps N] "
+                 "[--iterations N] [--contact-sweeps N] [--hierarchy] [--alternate-sweeps] [--seeds A-B])\n",
+                 why, arg);
     return 2;
   };
   for (int a = 1; a < argc; ++a) {
@@ -44,19 +53,42 @@ int main(int argc, char** argv) {
       strain = std::strtod(argv[++a], &end);
       if (end == argv[a] || *end != '\0' || !(strain > 0) || !(strain < 1e6))
         return usage("--strain needs a number > 0, got", argv[a]);
+    } else if (std::strcmp(argv[a], "--substeps") == 0 && a + 1 < argc) {
+      const unsigned n = parse_whole(argv[++a]);
+      if (n < 1 || n > 1000) return usage("--substeps needs a whole number from 1 to 1000, got", argv[a]);
+      substeps = int(n);
+    } else if (std::strcmp(argv[a], "--iterations") == 0 && a + 1 < argc) {
+      const unsigned n = parse_whole(argv[++a]);
+      if (n < 1 || n > 1000) return usage("--iterations needs a whole number from 1 to 1000, got", argv[a]);
+      other.iterations = int(n);
+    } else if (std::strcmp(argv[a], "--contact-sweeps") == 0 && a + 1 < argc) {
+      const std::string v = argv[++a];
+      const unsigned n = v == "0" ? 0 : parse_whole(v);
+      if ((n == 0 && v != "0") || n > 1000)
+        return usage("--contact-sweeps needs a whole number from 0 to 1000, got", argv[a]);
+      other.contact_sweeps = int(n);
+    } else if (std::strcmp(argv[a], "--hierarchy") == 0) {
+      other.hierarchy = true;
+    } else if (std::strcmp(argv[a], "--alternate-sweeps") == 0) {
+      other.alternate_sweeps = true;
     } else if (std::strcmp(argv[a], "--seeds") == 0 && a + 1 < argc) {
       const std::string v = argv[++a];
       const std::size_t dash = v.find('-');
-      first = parse_seed(v.substr(0, dash));
-      last = dash == std::string::npos ? first : parse_seed(v.substr(dash + 1));
+      first = parse_whole(v.substr(0, dash));
+      last = dash == std::string::npos ? first : parse_whole(v.substr(dash + 1));
       if (first < 1 || last < first) return usage("--seeds needs A-B with 1 <= A <= B, got", argv[a]);
     } else {
       return usage("unknown or incomplete argument", argv[a]);
     }
   }
   for (unsigned seed = first; seed <= last; ++seed) {
-    const Result r = run(49, true, 0, true, 0, seed, kFrames, SystemSettings{}.tolerance.penetration, true,
-                         surface_edges, strain);
+    const Result r = run(49, true, other.contact_sweeps, true, substeps, seed, kFrames,
+                         SystemSettings{}.tolerance.penetration, true, surface_edges, strain,
+                         [&](SystemSettings& set) {
+                           set.iterations = other.iterations;
+                           set.hierarchy = other.hierarchy;
+                           set.alternate_sweeps = other.alternate_sweeps;
+                         });
     // The bar's mean speed over the last 100 frames (from its centre's
     // path): whether the pile has come to rest.
     double speed = 0;
