@@ -10,7 +10,8 @@
 #
 #   scripts/squeeze_seeds.sh                    builds and uses build/double
 #   BUILD_DIR=build/float scripts/squeeze_seeds.sh
-#   scripts/squeeze_seeds.sh --surface-edges    with ContactSettings::surface_edge_contacts
+#   scripts/squeeze_seeds.sh --no-surface-edges without ContactSettings::surface_edge_contacts (on by default
+#                                               since 2026-11-29; --surface-edges: with it)
 #   scripts/squeeze_seeds.sh --strain 0.2       with the tolerance's strain target (SystemSettings::tolerance.strain)
 #   scripts/squeeze_seeds.sh --substeps 30      SystemSettings::substeps 30 instead of the default
 #   scripts/squeeze_seeds.sh --iterations 2     Gauss-Seidel sweeps per substep (SystemSettings::iterations)

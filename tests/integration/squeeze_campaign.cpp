@@ -3,10 +3,11 @@
 // (squeeze_app.hpp) with 49 bodies over wrinkle seeds 1-32 at the defaults,
 // one line per seed.
 //
-//   xpbd_squeeze_campaign [--surface-edges] [--strain S] [--substeps N] [--iterations N]
+//   xpbd_squeeze_campaign [--surface-edges | --no-surface-edges] [--strain S] [--substeps N] [--iterations N]
 //                         [--contact-sweeps N] [--hierarchy] [--alternate-sweeps] [--seeds A-B]
 //
-// --surface-edges: ContactSettings::surface_edge_contacts on.
+// --surface-edges, --no-surface-edges: ContactSettings::surface_edge_contacts
+// on (its default since 2026-11-29) or off.
 // --strain S: the tolerance's strain target S (SystemSettings::tolerance.strain, > 0).
 // --substeps N: SystemSettings::substeps N (1 <= N <= 1000) instead of the default.
 // --iterations N: SystemSettings::iterations N (1 <= N <= 1000).
@@ -40,7 +41,7 @@ int main(int argc, char** argv) {
   SystemSettings other;  // the settings run() takes from the flags through its tweak
   const auto usage = [](const char* why, const char* arg) {
     std::fprintf(stderr,
-                 "xpbd_squeeze_campaign: %s '%s' (usage: [--surface-edges] [--strain S] [--substeps N] "
+                 "xpbd_squeeze_campaign: %s '%s' (usage: [--surface-edges | --no-surface-edges] [--strain S] [--substeps N] "
                  "[--iterations N] [--contact-sweeps N] [--hierarchy] [--alternate-sweeps] [--seeds A-B])\n",
                  why, arg);
     return 2;
@@ -48,6 +49,8 @@ int main(int argc, char** argv) {
   for (int a = 1; a < argc; ++a) {
     if (std::strcmp(argv[a], "--surface-edges") == 0) {
       surface_edges = true;
+    } else if (std::strcmp(argv[a], "--no-surface-edges") == 0) {
+      surface_edges = false;
     } else if (std::strcmp(argv[a], "--strain") == 0 && a + 1 < argc) {
       char* end = nullptr;
       strain = std::strtod(argv[++a], &end);

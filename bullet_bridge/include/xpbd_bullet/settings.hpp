@@ -85,15 +85,17 @@ struct ContactSettings {
   // 12,312 to 6,174 in double, and such edges through a body from 50,622 to
   // 4,545; a 1000 kg box landing on its edge on a cloth on the ground
   // stretched it by 0.04 and 0.06 (tilted 0.3 and 0.6 rad) with it, 0.07
-  // and 0.15 without. Off by default so far: one run of the 32 left a
-  // particle 8.9 mm (double) or 12.3 mm (float) inside a body, where the
-  // defaults leave none (docs/squeeze.md, "Not on by default yet"). Since
-  // the gyroscopic change of 2026-11-29 the same campaign with it left none
-  // in either build, and had a third (double) or a half (float) of the
-  // frames with an edge over 20 %, at 1.41-1.48 times the wall time
-  // (docs/squeeze-surface-edges.md, "Surface edges after the gyroscopic
-  // change").
-  bool surface_edge_contacts = false;
+  // and 0.15 without. On by default since 2026-11-29 (it was off while one
+  // run of the 32 left a particle 8.9 mm (double) or 12.3 mm (float) inside
+  // a body, docs/squeeze.md, "Not on by default yet"): since the gyroscopic
+  // change of that day the campaign with it leaves no particle deeper than
+  // the thickness in either build, and a third (double) or a half (float)
+  // of the frames with an edge over 20 %, at 1.41-1.48 times the wall time
+  // of that 49-body pile (docs/squeeze-surface-edges.md, "Surface edges
+  // after the gyroscopic change"). It costs nothing where no box is near a
+  // system without collision triangles. The scene format keeps its own
+  // default off (docs/scene-format.md, soft.contacts.surface_edges).
+  bool surface_edge_contacts = true;
   // From this many collision_triangles on (>= 0), the rigid features are
   // matched with the triangles through a bounding volume hierarchy of the
   // triangles' swept boxes (built by FCL once, refitted every step) and a
