@@ -29,6 +29,11 @@
 //                            off: the difference is the refresh's per-substep
 //                            pass over the particles (and its queries: the
 //                            summary prints how many particles it passed);
+//   bridge_step/culled_no_surface_edges  culled with
+//                            ContactSettings::surface_edge_contacts off (on
+//                            by default since 2026-11-29): the cloth's edges
+//                            against the 50 boxes' edges are what the
+//                            difference costs, search and solve;
 //   contact_generation/...   the time pre_solve spends finding the
 //                            contacts (XpbdWorld measures it around that
 //                            code: StepStats::contact_seconds, wall clock),
@@ -57,11 +62,14 @@
 
 namespace {
 
-// ContactSettings::cull and refresh of system id (settings are replaced as a whole).
-void set_cull(xpbd_bullet::XpbdWorld& xw, xpbd_bullet::SystemId id, bool cull, bool refresh = true) {
+// ContactSettings::cull, refresh and surface_edge_contacts of system id
+// (settings are replaced as a whole).
+void set_cull(xpbd_bullet::XpbdWorld& xw, xpbd_bullet::SystemId id, bool cull, bool refresh = true,
+              bool surface_edges = xpbd_bullet::ContactSettings{}.surface_edge_contacts) {
   xpbd_bullet::SystemSettings s = xw.settings(id);
   s.contacts.cull = cull;
   s.contacts.refresh = refresh;
+  s.contacts.surface_edge_contacts = surface_edges;
   xw.set_settings(id, s);
 }
 
@@ -97,6 +105,7 @@ struct Scene {
   xpbd_bullet::StepStats culled, brute;  // stats of one bridge step from the snapshot, per mode
   bool same_contacts = false;            // both modes gave the same contacts and shadows
   Real vmax = 0;                         // m/s, fastest particle of the snapshot
+  int edge_contacts = 0;                 // edge contacts of the culled bridge step (surface edges)
 
   Scene() {
     world.setGravity(btVector3(0, Real(-9.81), 0));
@@ -141,6 +150,7 @@ struct Scene {
     snapshot.contacts.clear();
     snapshot.attachments.clear();
     snapshot.triangle_contacts.clear();
+    snapshot.edge_contacts.clear();
     for (const Vec3& v : snapshot.v) vmax = std::max(vmax, v.norm());
 
     // One bridge step from the snapshot in each mode: their contacts, body
@@ -164,12 +174,20 @@ struct Scene {
     with_contacts.bodies = a.bodies;
     with_contacts.contacts = a.contacts;
     with_contacts.attachments = a.attachments;
+    with_contacts.edge_contacts = a.edge_contacts;
+    edge_contacts = int(a.edge_contacts.size());
   }
 
   // Field by field, exactly: both modes run the same narrowphase on the same
   // inputs, so any difference is a pair the culling dropped (or added).
   static bool equal_contacts(const State& a, const State& b) {
-    if (a.contacts.size() != b.contacts.size() || a.bodies.size() != b.bodies.size()) return false;
+    if (a.contacts.size() != b.contacts.size() || a.bodies.size() != b.bodies.size() ||
+        a.edge_contacts.size() != b.edge_contacts.size())
+      return false;
+    for (std::size_t k = 0; k < a.edge_contacts.size(); ++k) {
+      const BodyEdgeContact &p = a.edge_contacts[k], &q = b.edge_contacts[k];
+      if (p.p != q.p || p.a != q.a || p.b != q.b || p.out != q.out || p.thickness != q.thickness) return false;
+    }
     for (std::size_t k = 0; k < a.contacts.size(); ++k) {
       const BodyContact &p = a.contacts[k], &q = b.contacts[k];
       if (p.particle != q.particle || p.body != q.body || p.r != q.r || p.n != q.n ||
@@ -236,9 +254,9 @@ void BM_xpbd_step(benchmark::State& bs, bool contacts) {
 // XpbdWorld::pre_solve + updateAction: what Bullet calls once per internal step, with
 // ContactSettings::cull on or off. Also reports the contact generation time
 // XpbdWorld measures itself (StepStats::contact_seconds, wall clock).
-void BM_bridge_step(benchmark::State& bs, bool cull, bool refresh) {
+void BM_bridge_step(benchmark::State& bs, bool cull, bool refresh, bool surface_edges) {
   Scene& s = scene();
-  set_cull(*s.xw, s.id, cull, refresh);
+  set_cull(*s.xw, s.id, cull, refresh, surface_edges);
   double ns = 0, generation = 0;
   long refreshed = 0;
   for (auto _ : bs) {
@@ -294,12 +312,15 @@ class SummaryReporter : public benchmark::ConsoleReporter {
     const double brute = get("bridge_step/brute_force");
     const double culled = get("bridge_step/culled");
     const double no_refresh = get("bridge_step/culled_no_refresh");
+    const double no_edges = get("bridge_step/culled_no_surface_edges");
     if (ref <= 0 || with <= 0) return;
     const Scene& s = scene();
     std::printf("\n64 x 64 cloth over 100 static bodies (fastest particle of the snapshot: %.2f m/s)\n"
-                "  %d candidates, %d contacts per step; narrowphase queries: %d brute force, %d culled\n"
+                "  %d candidates, %d contacts and %d surface edge contacts per step; narrowphase queries: %d brute "
+                "force, %d culled\n"
                 "ns per particle per step (medians) and ratio to xpbd_step/no_contacts (same run)\n",
-                double(s.vmax), s.culled.candidates, s.culled.contacts, s.brute.queries, s.culled.queries);
+                double(s.vmax), s.culled.candidates, s.culled.contacts, s.edge_contacts, s.brute.queries,
+                s.culled.queries);
     const auto row = [&](const char* n, double v) {
       std::printf("%-58s %10.1f %8.3f\n", n, v, v / ref);
     };
@@ -309,8 +330,11 @@ class SummaryReporter : public benchmark::ConsoleReporter {
     if (brute > 0) row("bridge_step/brute_force", brute);
     if (culled > 0) row("bridge_step/culled", culled);
     if (no_refresh > 0) row("bridge_step/culled_no_refresh", no_refresh);
+    if (no_edges > 0) row("bridge_step/culled_no_surface_edges", no_edges);
     if (culled > 0 && no_refresh > 0)
       std::printf("bridge step with the contact refresh / without: %.3f\n", culled / no_refresh);
+    if (culled > 0 && no_edges > 0)
+      std::printf("bridge step with surface edge contacts / without: %.3f\n", culled / no_edges);
     // Measured inside pre_solve, around the contact search only.
     const double gen_brute = get("bridge_step/brute_force", true);
     const double gen_culled = get("bridge_step/culled", true);
@@ -353,13 +377,17 @@ int main(int argc, char** argv) {
   benchmark::RegisterBenchmark("xpbd_step/with_contacts", BM_xpbd_step, true)
       ->UseManualTime()
       ->Unit(benchmark::kMillisecond);
-  benchmark::RegisterBenchmark("bridge_step/brute_force", BM_bridge_step, false, true)
+  const bool edges = xpbd_bullet::ContactSettings{}.surface_edge_contacts;  // the default
+  benchmark::RegisterBenchmark("bridge_step/brute_force", BM_bridge_step, false, true, edges)
       ->UseManualTime()
       ->Unit(benchmark::kMillisecond);
-  benchmark::RegisterBenchmark("bridge_step/culled", BM_bridge_step, true, true)
+  benchmark::RegisterBenchmark("bridge_step/culled", BM_bridge_step, true, true, edges)
       ->UseManualTime()
       ->Unit(benchmark::kMillisecond);
-  benchmark::RegisterBenchmark("bridge_step/culled_no_refresh", BM_bridge_step, true, false)
+  benchmark::RegisterBenchmark("bridge_step/culled_no_refresh", BM_bridge_step, true, false, edges)
+      ->UseManualTime()
+      ->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("bridge_step/culled_no_surface_edges", BM_bridge_step, true, true, false)
       ->UseManualTime()
       ->Unit(benchmark::kMillisecond);
   SummaryReporter reporter;
