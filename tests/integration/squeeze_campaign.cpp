@@ -41,8 +41,9 @@ int main(int argc, char** argv) {
   SystemSettings other;  // the settings run() takes from the flags through its tweak
   const auto usage = [](const char* why, const char* arg) {
     std::fprintf(stderr,
-                 "xpbd_squeeze_campaign: %s '%s' (usage: [--surface-edges | --no-surface-edges] [--strain S] [--substeps N] "
-                 "[--iterations N] [--contact-sweeps N] [--hierarchy] [--alternate-sweeps] [--seeds A-B])\n",
+                 "xpbd_squeeze_campaign: %s '%s' (usage: [--surface-edges | --no-surface-edges] [--strain S] "
+                 "[--substeps N] [--iterations N] [--contact-sweeps N] [--hierarchy] [--alternate-sweeps] "
+                 "[--seeds A-B])\n",
                  why, arg);
     return 2;
   };
