@@ -340,6 +340,8 @@ class SummaryReporter : public benchmark::ConsoleReporter {
     const double gen_culled = get("bridge_step/culled", true);
     if (gen_brute > 0) row("contact_generation/brute_force (timed, wall)", gen_brute);
     if (gen_culled > 0) row("contact_generation/culled (timed, wall)", gen_culled);
+    const double gen_no_edges = get("bridge_step/culled_no_surface_edges", true);
+    if (gen_no_edges > 0) row("contact_generation/culled_no_surface_edges (timed, wall)", gen_no_edges);
     // Cross-check: the difference of two whole steps (noisy when small).
     if (brute > 0) row("contact_generation/brute_force (bridge - with)", brute - with);
     if (culled > 0) row("contact_generation/culled (bridge - with)", culled - with);

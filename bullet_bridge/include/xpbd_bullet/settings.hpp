@@ -94,7 +94,7 @@ struct ContactSettings {
   // of that 49-body pile (docs/squeeze-surface-edges.md, "Surface edges
   // after the gyroscopic change"). It costs nothing where no box is near a
   // system without collision triangles; a cloth lying over 50 boxes and 50
-  // spheres (bench_contacts) takes 1.46-1.54 times the bridge step it
+  // spheres (bench_contacts) takes 1.45-1.54 times the bridge step it
   // takes without it (docs/bench-bridge.md). The scene format keeps its own
   // default off (docs/scene-format.md, soft.contacts.surface_edges).
   bool surface_edge_contacts = true;
