@@ -37,6 +37,9 @@
 //   step_coloured_scalar/* the same with StepConfig::simd = false;
 //   step_threads2/* step_coloured with StepConfig::workers of 2 threads
 //                   (wall time).
+// XPBD_BENCH_SIMD=avx512-ymm (or any name xpbd::set_simd_kernel takes) in
+// the environment runs the rows without an AVX2 cap at that kernel
+// (simd_cap.hpp): the way to time one Distance kernel against another.
 // At the end the program prints the medians (or single runs), the ratio of
 // the naive sweep to each benchmark, for the coloured ones the ratio of the
 // array-order benchmark (kernel_sweep or step) to them, and in the last
@@ -57,6 +60,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <map>
 #include <span>
 #include <string>
@@ -549,6 +553,12 @@ class SummaryReporter : public benchmark::ConsoleReporter {
 }  // namespace
 
 int main(int argc, char** argv) {
+  try {
+    xpbd_bench::cap_from_environment();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "XPBD_BENCH_SIMD: %s\n", e.what());
+    return 2;
+  }
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   register_all();

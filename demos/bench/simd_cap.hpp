@@ -26,9 +26,7 @@ class Avx2Cap {
   explicit Avx2Cap(bool on) : on_(on) {
     if (on_) xpbd::set_simd_kernel("avx2");
   }
-  ~Avx2Cap() {
-    if (on_) xpbd::set_simd_kernel("auto");
-  }
+  ~Avx2Cap();
   Avx2Cap(const Avx2Cap&) = delete;
   Avx2Cap& operator=(const Avx2Cap&) = delete;
 
@@ -38,12 +36,17 @@ class Avx2Cap {
 
 // The cap named by the environment variable XPBD_BENCH_SIMD ("avx512",
 // "avx512-ymm", "avx2", "scalar" or "auto"; any name xpbd::set_simd_kernel
-// takes), for the benchmarks whose rows have no capped twin
-// (bench_scale): the whole run at that kernel. Throws xpbd::ConfigError
-// for a name the library refuses.
+// takes), or none (auto) without it: the whole run at that kernel
+// (bench_scale), or every row but the AVX2-capped ones (bench_distance).
+// Throws xpbd::ConfigError for a name the library refuses.
 inline void cap_from_environment() {
   const char* name = std::getenv("XPBD_BENCH_SIMD");
-  if (name != nullptr) xpbd::set_simd_kernel(name);
+  xpbd::set_simd_kernel(name != nullptr ? name : "auto");
+}
+
+// Back to the run's cap: the environment's, or none.
+inline Avx2Cap::~Avx2Cap() {
+  if (on_) cap_from_environment();
 }
 
 }  // namespace xpbd_bench

@@ -24,6 +24,9 @@ namespace {
 #if XPBD_DOUBLE
 struct Avx2Lane {
   static constexpr int N = 4;
+  // One batch per group: two were slower in double, with AVX2 and with
+  // AVX-512VL alike (docs/bench-distance-kernels.md, "Two batches in flight").
+  static constexpr int kBatches = 1;
 #ifdef __AVX512VL__
   using M = __mmask8;
 #else
@@ -90,6 +93,9 @@ struct Avx2Lane {
 #else
 struct Avx2Lane {
   static constexpr int N = 8;
+  // Two batches per group (project_stream_range): faster in float, with
+  // AVX2 and with AVX-512VL (docs/bench-distance-kernels.md).
+  static constexpr int kBatches = 2;
 #ifdef __AVX512VL__
   using M = __mmask8;
 #else

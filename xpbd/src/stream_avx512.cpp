@@ -19,6 +19,9 @@ namespace {
 #if XPBD_DOUBLE
 struct Avx512Lane {
   static constexpr int N = 8;
+  // Two batches per group (project_stream_range): faster than one here
+  // (docs/bench-distance-kernels.md, "Two batches in flight").
+  static constexpr int kBatches = 2;
   using M = __mmask8;
   __m512d v;
   Avx512Lane() = default;

@@ -47,6 +47,7 @@ namespace {
 // One element at a time, in plain C++.
 struct ScalarLane {
   static constexpr int N = 1;
+  static constexpr int kBatches = 1;  // the Distance kernel's batches per group (project_stream_range)
   using M = bool;
   Real v;
   ScalarLane() = default;
@@ -98,22 +99,34 @@ template <class V>
   return (dx * vx + dy * vy) + dz * vz;
 }
 
-// Elements [j, j + V::N) of the stream, which share no particle.
+// The records of a batch of elements and their new values, between a
+// batch's projection and their store.
+template <class V>
+struct PairBatch {
+  Real* ra[V::N];
+  Real* rb[V::N];
+  V xa, ya, za, wa, xb, yb, zb, wb;
+  [[gnu::always_inline]] void store() const {
+    V::store_records(ra, xa, ya, za, wa);
+    V::store_records(rb, xb, yb, zb, wb);
+  }
+};
+
+// Projects elements [j, j + V::N) of the stream, which share no particle:
+// stores their multipliers, and leaves their records' new values in r.
 // kFirst: the first sweep of a substep, where every multiplier is 0: it is
 // not read, and the sweep writes every element's (so nothing needs zeroing
 // beforehand). 0 + dl and rest - at * 0 are what the other variant
 // computes from a multiplier of +0, so both give the same bits.
 template <class V, bool kDamped, bool kFirst>
-[[gnu::always_inline]] inline void project_stream_lanes(const StreamArgs& s, std::size_t j) {
-  Real* ra[V::N];
-  Real* rb[V::N];
+[[gnu::always_inline]] inline void solve_stream_lanes(const StreamArgs& s, std::size_t j, PairBatch<V>& r) {
   for (int l = 0; l < V::N; ++l) {
-    ra[l] = s.x + 4 * static_cast<std::size_t>(s.a[j + static_cast<std::size_t>(l)]);
-    rb[l] = s.x + 4 * static_cast<std::size_t>(s.b[j + static_cast<std::size_t>(l)]);
+    r.ra[l] = s.x + 4 * static_cast<std::size_t>(s.a[j + static_cast<std::size_t>(l)]);
+    r.rb[l] = s.x + 4 * static_cast<std::size_t>(s.b[j + static_cast<std::size_t>(l)]);
   }
   V xa, ya, za, wa, xb, yb, zb, wb;
-  V::load_records(ra, xa, ya, za, wa);
-  V::load_records(rb, xb, yb, zb, wb);
+  V::load_records(r.ra, xa, ya, za, wa);
+  V::load_records(r.rb, xb, yb, zb, wb);
   const V rest = V::load(s.rest + j);
   const V inv_den = V::load(s.inv_den + j);
   const V lam = kFirst ? V(Real(0)) : V::load(s.lambda + j);
@@ -148,14 +161,37 @@ template <class V, bool kDamped, bool kFirst>
   const V dl = num * inv_den;
   V::store(s.lambda + j, lam + V::keep(ok, dl));
   const V sa = V::keep(ok, dl * (wa * inv_len)), sb = V::keep(ok, dl * (wb * inv_len));
-  V::store_records(ra, xa + sa * dx, ya + sa * dy, za + sa * dz, wa);
-  V::store_records(rb, xb - sb * dx, yb - sb * dy, zb - sb * dz, wb);
+  r.xa = xa + sa * dx, r.ya = ya + sa * dy, r.za = za + sa * dz, r.wa = wa;
+  r.xb = xb - sb * dx, r.yb = yb - sb * dy, r.zb = zb - sb * dz, r.wb = wb;
 }
 
-// Elements [lo, hi) of one colour: V::N at a time, the rest one by one.
+template <class V, bool kDamped, bool kFirst>
+[[gnu::always_inline]] inline void project_stream_lanes(const StreamArgs& s, std::size_t j) {
+  PairBatch<V> r;
+  solve_stream_lanes<V, kDamped, kFirst>(s, j, r);
+  r.store();
+}
+
+// Elements [lo, hi) of one colour: V::kBatches batches of V::N at a time,
+// then V::N at a time, then the rest one by one. The batches of a group
+// are all loaded and solved before any is stored (they share no particle:
+// one colour), which gives the core independent chains through the square
+// root and the division to overlap.
 template <class V, bool kDamped, bool kFirst>
 inline void project_stream_range(const StreamArgs& s, std::size_t lo, std::size_t hi) {
+  constexpr int K = V::kBatches;
+  constexpr std::size_t kGroup = static_cast<std::size_t>(K * V::N);
   std::size_t j = lo;
+  if constexpr (K > 1) {
+    for (; j + kGroup <= hi; j += kGroup) {
+      PairBatch<V> b[K];
+#pragma GCC unroll 4
+      for (int k = 0; k < K; ++k)
+        solve_stream_lanes<V, kDamped, kFirst>(s, j + static_cast<std::size_t>(k * V::N), b[k]);
+#pragma GCC unroll 4
+      for (int k = 0; k < K; ++k) b[k].store();
+    }
+  }
   for (; j + V::N <= hi; j += V::N) project_stream_lanes<V, kDamped, kFirst>(s, j);
   for (; j < hi; ++j) project_stream_lanes<ScalarLane, kDamped, kFirst>(s, j);
 }
