@@ -202,8 +202,13 @@ void project_pair_distance(const T* cs, std::size_t n, Real* lambda, const Solve
     const Real num0 = sign * rest - at * lam;  // num = num0 - s L (XPBD)
 
     // Dependent on the positions.
+    // The sums written out in the stream kernels' order (stream_kernel.hpp),
+    // not as Eigen's squaredNorm and dot: those sum a 3-vector in an order
+    // that depends on the build's vector width (x + (y + z) in float with
+    // SSE, (x + y) + z in double), and the array order over its levels
+    // (StepConfig::levels) must give this kernel's bits.
     const Vec3 d = x[a] - x[b];
-    const Real q = d.squaredNorm();
+    const Real q = (d.x() * d.x() + d.y() * d.y()) + d.z() * d.z();
     const Real len = std::sqrt(q);
     if (!(len > kDegenerateRel * rest)) continue;
     if constexpr (T::kInequality) {
@@ -219,7 +224,10 @@ void project_pair_distance(const T* cs, std::size_t n, Real* lambda, const Solve
     Real num;
     if constexpr (kXpbd) {
       num = num0 - sign * len;
-      if constexpr (kDamped) num -= gamma * f * d.dot((x[a] - x_prev[a]) - (x[b] - x_prev[b]));
+      if constexpr (kDamped) {
+        const Vec3 v = (x[a] - x_prev[a]) - (x[b] - x_prev[b]);
+        num -= gamma * f * ((d.x() * v.x() + d.y() * v.y()) + d.z() * v.z());
+      }
     } else {
       num = -c.mat.stiffness * (sign * (len - rest));
     }
