@@ -28,9 +28,14 @@
 //   stream_avx2_sweep/* the same capped at the AVX2 kernel
 //                   (set_simd_kernel), on a CPU with AVX-512 only;
 //   stream_scalar_sweep/* the same with the scalar kernel (simd = false);
-//   step/*          a full xpbd::step() of the cloth scene, time divided by
+//   step/*          a full xpbd::step() of the cloth scene in array order,
+//                   element by element (StepConfig::levels off: the
+//                   array-order step before the levels), time divided by
 //                   substeps * iterations * constraints (so predict and the
 //                   velocity update are charged to the projections);
+//   step_levels/*   the same step as step/* bit for bit, over array order's
+//                   levels with the widest kernel (StepConfig::levels, the
+//                   default);
 //   step_coloured/* the same with StepConfig::coloured (the stream, widest
 //                   kernel);
 //   step_coloured_avx2/* the same capped at AVX2, on a CPU with AVX-512 only;
@@ -389,12 +394,13 @@ void BM_naive_sweep(benchmark::State& bs, Stiffness stiffness) {
 // Full step of the cloth scene; every constraint type of the model counts
 // (here: the distances plus the two kinematic pins).
 void BM_step(benchmark::State& bs, Stiffness stiffness, int substeps, int iterations,
-             bool coloured, int threads, bool simd, bool avx2) {
+             bool coloured, int threads, bool simd, bool avx2, bool levels) {
   const ClothBench& b = cloth(stiffness);
   const Avx2Cap cap(avx2);
   StepConfig cfg = b.cfg;
   cfg.coloured = coloured;
   cfg.simd = simd;
+  cfg.levels = levels;
   Workers workers(threads);
   if (threads > 1) cfg.workers = &workers;
   cfg.substeps = substeps;
@@ -446,12 +452,15 @@ void register_all() {
     const std::string n = name(s);
     for (auto [sub, it] : {std::pair{10, 1}, std::pair{20, 1}, std::pair{1, 10}}) {
       const std::string si = "/substeps:" + std::to_string(sub) + "/iterations:" + std::to_string(it);
-      add("step/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, false, 1, true, false);
-      add("step_coloured/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, true, 1, true, false);
+      add("step/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, false, 1, true, false, false);
+      add("step_levels/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, false, 1, true, false, true);
+      add("step_coloured/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, true, 1, true, false, false);
       if (xpbd_bench::has_avx2_row())
-        add("step_coloured_avx2/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, true, 1, true, true);
-      add("step_coloured_scalar/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, true, 1, false, false);
-      add("step_threads2/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, true, 2, true, false);
+        add("step_coloured_avx2/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, true, 1, true, true,
+            false);
+      add("step_coloured_scalar/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, true, 1, false, false,
+          false);
+      add("step_threads2/" + n + si, benchmark::kMillisecond, BM_step, s, sub, it, true, 2, true, false, false);
     }
   }
 }
@@ -482,7 +491,7 @@ class SummaryReporter : public benchmark::ConsoleReporter {
   void summary() const {
     if (results_.empty()) return;
     std::printf("\nns per projection (%s), speed-up over the naive sweep of the same\n"
-                "stiffness, and for coloured runs the array-order run's time over\n"
+                "stiffness, and for coloured and level runs the array-order run's time over\n"
                 "theirs (kernel_sweep or step, same stiffness and budget), and the\n"
                 "second reference's (scalar kernel; one thread) over theirs, all in this run\n",
                 any_median() ? "median of repetitions" : "single run");
@@ -497,8 +506,8 @@ class SummaryReporter : public benchmark::ConsoleReporter {
       // "step_coloured/rigid/..." -> "step/rigid/...", "coloured_sweep/x" -> "kernel_sweep/x"
       const std::string kind = n.substr(0, a - 1), rest = n.substr(a - 1);
       std::string array, second;
-      if (kind == "step_coloured" || kind == "step_coloured_avx2" || kind == "step_coloured_scalar" ||
-          kind == "step_threads2")
+      if (kind == "step_levels" || kind == "step_coloured" || kind == "step_coloured_avx2" ||
+          kind == "step_coloured_scalar" || kind == "step_threads2")
         array = "step" + rest;
       if (kind == "coloured_sweep" || kind == "stream_sweep" || kind == "stream_avx2_sweep" ||
           kind == "stream_scalar_sweep")

@@ -8,7 +8,10 @@
 // free fall. Each timed step starts from that snapshot. Budget: 20
 // substeps x 1 iteration of 1/60 s.
 //
-//   step_array/N     step() in array order, one thread;
+//   step_array/N     step() in array order, element by element
+//                    (StepConfig::levels off), one thread;
+//   step_levels/N    the same step over array order's levels with the
+//                    vector kernel (the default; the same bits), one thread;
 //   step_coloured/N  step() with StepConfig::coloured (the stream kernel);
 //   step_threads2/N  the same with StepConfig::workers of 2 threads (wall time);
 //   barrier/T        one Workers::run of T tasks that do nothing: what a
@@ -88,13 +91,14 @@ const Cloth& cloth(int n) {
   return *c;
 }
 
-enum class Kind { array, coloured, threads2 };
+enum class Kind { array, levels, coloured, threads2 };
 
 void BM_step(benchmark::State& bs, int n, Kind kind) {
   const Cloth& c = cloth(n);
   StepConfig cfg;
   cfg.substeps = kSubsteps;
-  cfg.coloured = kind != Kind::array;
+  cfg.coloured = kind == Kind::coloured || kind == Kind::threads2;
+  cfg.levels = kind == Kind::levels;
   Workers w(kind == Kind::threads2 ? 2 : 1);
   if (kind == Kind::threads2) cfg.workers = &w;
   State s = c.snapshot;
@@ -152,20 +156,22 @@ class Summary : public benchmark::ConsoleReporter {
                 "stream kernels: %s (Distance: %s), precision: %s; ratios measured in this run\n",
                 medians_.empty() ? "single runs" : "medians of repetitions", kSubsteps, simd_kernel(), distance_kernel(),
                 sizeof(Real) == 8 ? "double" : "float");
-    std::printf("%6s %11s %11s %11s %11s %11s %13s %13s\n", "N", "array/p", "col/p", "col2/p", "col/proj",
-                "col2/proj", "array/col", "col/col2");
+    std::printf("%6s %11s %11s %11s %11s %11s %11s %13s %13s %13s\n", "N", "array/p", "lev/p", "col/p", "col2/p",
+                "col/proj", "col2/proj", "array/lev", "array/col", "col/col2");
     for (int n : kSizes) {
       auto find = [&](const char* kind) {
         std::string key(kind);
         key += std::to_string(n);
         return values_.find(key);
       };
-      const auto a = find("step_array/"), c = find("step_coloured/"), t = find("step_threads2/");
-      if (a == values_.end() || c == values_.end() || t == values_.end()) continue;
+      const auto a = find("step_array/"), l = find("step_levels/"), c = find("step_coloured/"),
+                 t = find("step_threads2/");
+      if (a == values_.end() || l == values_.end() || c == values_.end() || t == values_.end()) continue;
       auto v = [](const auto& it, const char* k) { return it->second.at(k); };
-      std::printf("%6d %11.2f %11.2f %11.2f %11.2f %11.2f %13.2f %13.2f\n", n, v(a, "ns_per_particle_substep"),
-                  v(c, "ns_per_particle_substep"), v(t, "ns_per_particle_substep"), v(c, "ns_per_projection"),
-                  v(t, "ns_per_projection"), v(a, "ms_per_step") / v(c, "ms_per_step"),
+      std::printf("%6d %11.2f %11.2f %11.2f %11.2f %11.2f %11.2f %13.2f %13.2f %13.2f\n", n,
+                  v(a, "ns_per_particle_substep"), v(l, "ns_per_particle_substep"), v(c, "ns_per_particle_substep"),
+                  v(t, "ns_per_particle_substep"), v(c, "ns_per_projection"), v(t, "ns_per_projection"),
+                  v(a, "ms_per_step") / v(l, "ms_per_step"), v(a, "ms_per_step") / v(c, "ms_per_step"),
                   v(c, "ms_per_step") / v(t, "ms_per_step"));
     }
     for (const auto& [name, vals] : values_)
@@ -224,8 +230,9 @@ int main(int argc, char** argv) {
   for (int n : kSizes) {
     // Few iterations for the large cloths (a 1024 x 1024 step takes about a second).
     const int iterations = n >= 512 ? 3 : 0;
-    for (auto [kind, name] : {std::pair{Kind::array, "step_array/"}, std::pair{Kind::coloured, "step_coloured/"},
-                              std::pair{Kind::threads2, "step_threads2/"}}) {
+    for (auto [kind, name] :
+         {std::pair{Kind::array, "step_array/"}, std::pair{Kind::levels, "step_levels/"},
+          std::pair{Kind::coloured, "step_coloured/"}, std::pair{Kind::threads2, "step_threads2/"}}) {
       auto* b = benchmark::RegisterBenchmark((std::string(name) + std::to_string(n)).c_str(), BM_step, n, kind);
       b->UseManualTime()->Unit(benchmark::kMillisecond);
       if (iterations > 0) b->Iterations(iterations);

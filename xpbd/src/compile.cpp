@@ -302,6 +302,36 @@ ColourSchedule colour_elements(const std::vector<T>& cs, Index num_particles,
   return out;
 }
 
+// Array order's levels (Model::distance_levels): element k's level is one
+// more than the highest level of the earlier elements sharing one of its
+// particles, and the levels are laid out one after another, each in array
+// order (a stable counting sort). Cost: O(elements + particles).
+template <class T>
+ColourSchedule level_elements(const std::vector<T>& cs, Index num_particles) {
+  ColourSchedule out;
+  if (cs.empty()) return out;
+  // last[i]: the level of the last element seen so far that touches particle i.
+  std::vector<Index> last(static_cast<std::size_t>(num_particles), -1);
+  std::vector<Index> level(cs.size());
+  Index levels = 0;
+  for (std::size_t k = 0; k < cs.size(); ++k) {
+    Index l = 0;
+    for (Index p : cs[k].p) l = std::max(l, last[static_cast<std::size_t>(p)] + 1);
+    for (Index p : cs[k].p) last[static_cast<std::size_t>(p)] = l;
+    level[k] = l;
+    levels = std::max(levels, l + 1);
+  }
+  out.begin.assign(static_cast<std::size_t>(levels) + 1, 0);
+  for (Index l : level) ++out.begin[static_cast<std::size_t>(l) + 1];
+  for (Index l = 0; l < levels; ++l)
+    out.begin[static_cast<std::size_t>(l) + 1] += out.begin[static_cast<std::size_t>(l)];
+  std::vector<Index> next(out.begin.begin(), out.begin.end() - 1);
+  out.order.resize(cs.size());
+  for (std::size_t k = 0; k < cs.size(); ++k)
+    out.order[static_cast<std::size_t>(next[static_cast<std::size_t>(level[k])]++)] = static_cast<Index>(k);
+  return out;
+}
+
 }  // namespace
 
 Index SceneDesc::add_particle(const Vec3& x, Real mass, Real radius, const Vec3& v) {
@@ -470,6 +500,8 @@ Model compile(const SceneDesc& s) {
   for (Index k : m.distance_colours.order)
     m.distance_by_colour.push_back(m.get<Distance>()[static_cast<std::size_t>(k)]);
   m.distance_stream = detail::make_distance_stream(m);
+  m.distance_levels = level_elements(m.get<Distance>(), n);
+  m.distance_level_stream = detail::make_distance_level_stream(m);
   m.dihedral_colours = colour_elements(m.get<DihedralBending>(), n);
   m.dihedral_stream = detail::make_dihedral_stream(m);
   m.tether_colours = colour_elements(m.get<Tether>(), n, &m.inv_mass);

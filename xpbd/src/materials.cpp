@@ -37,6 +37,7 @@ void refresh_distance_colours(Model& m) {
   for (std::size_t j = 0; j < order.size(); ++j)
     m.distance_by_colour[j] = d[static_cast<std::size_t>(order[j])];
   m.distance_stream = make_distance_stream(m);
+  if (m.distance_levels.order.size() == d.size()) m.distance_level_stream = make_distance_level_stream(m);
 }
 
 void refresh_dihedral_stream(Model& m) {

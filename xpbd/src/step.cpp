@@ -266,14 +266,42 @@ void reset_multipliers(State& s, bool skip_distance, bool skip_dihedral, bool sk
   std::fill(s.self_collision.lambda.begin(), s.self_collision.lambda.end(), Real(0));
 }
 
+// Fewest Distance elements per level, on average, for the array order to
+// run over its levels (uses_levels). A rope (1 per level) stepped 0.89-0.94
+// times as fast over its levels; cloths and tet boxes with 3.6 per level
+// 1.2-1.3 times (docs/bench-levels.md).
+constexpr std::size_t kMinPerLevel = 3;
+
+// True where XPBD's array-order Distance sweep runs over array order's
+// levels (Model::distance_levels) with the vector kernel (StepConfig::levels):
+// the same bits as the element-by-element kernel (model.hpp), faster. Not
+// with the coloured sweep (its own order), nor PBD (no stream), nor simd
+// off (the scalar kernels), nor direct_chains (its solve reads the coloured
+// stream's multipliers), nor on a CPU without a vector kernel; and only
+// where the levels hold kMinPerLevel elements on average. A Model whose
+// schedule does not cover its elements (edited after compile) takes the
+// element-by-element kernel.
+bool levels_apply(const Model& m, const StepConfig& cfg) {
+  if (!cfg.levels || cfg.coloured || cfg.method != Method::xpbd || !cfg.simd || cfg.direct_chains) return false;
+  const std::size_t n = m.get<Distance>().size();
+  const ColourSchedule& l = m.distance_levels;
+  if (n == 0 || l.order.size() != n || m.distance_level_stream.size() != n ||
+      m.distance_level_stream.inv_mass_sum.size() != n || l.begin.empty() || l.begin.front() != 0 ||
+      static_cast<std::size_t>(l.begin.back()) != n)
+    return false;
+  if (detail::simd_level(true) == detail::Simd::scalar) return false;
+  return n >= kMinPerLevel * static_cast<std::size_t>(l.num_colours());
+}
+
 // One Gauss-Seidel sweep over every constraint type, in ConstraintTypes order
 // (each type with elements is a stage of its own in StepConfig::times).
 // StepConfig::coloured: Distance in the order of m.distance_colours, with
 // XPBD over the compiled stream (stream.hpp; on cfg.workers when set), and
 // with XPBD DihedralBending and Tether over their own streams in the order
-// of m.dihedral_colours and m.tether_colours.
-void solve_constraints(const Model& m, State& s, const SolveContext& sc, const StepConfig& cfg, bool first,
-                       StageTimes* times, int records_in) {
+// of m.dihedral_colours and m.tether_colours. `levels` (uses_levels): the
+// array-order XPBD Distance sweep over the stream of m.distance_levels.
+void solve_constraints(const Model& m, State& s, const SolveContext& sc, const StepConfig& cfg, bool levels,
+                       bool first, StageTimes* times, int records_in) {
   const bool coloured = cfg.coloured;
   // What the particle records (State::stream_x, stream_x_prev) hold: after
   // a stream stage has copied them back, the positions (and the substep's
@@ -297,6 +325,14 @@ void solve_constraints(const Model& m, State& s, const SolveContext& sc, const S
       } else {
         std::span<const T> span(cs);
         const bool damped = m.has_damping[type_index_v<T>];
+        if constexpr (std::is_same_v<T, Distance>) {
+          if (levels) {
+            stream_stage(damped, [&](bool pack) {
+              detail::stream_sweep(m, s, sc, damped, cfg.simd, first, pack, cfg.workers, true);
+            });
+            return;
+          }
+        }
         if (coloured && sc.method == Method::xpbd) {
           if constexpr (std::is_same_v<T, Distance>) {
             stream_stage(damped,
@@ -336,6 +372,8 @@ void solve_constraints(const Model& m, State& s, const SolveContext& sc, const S
 
 }  // namespace
 
+bool uses_levels(const Model& m, const StepConfig& cfg) { return levels_apply(m, cfg); }
+
 void validate(const StepConfig& cfg) {
   if (!(cfg.dt > Real(0)) || !std::isfinite(cfg.dt))
     throw ConfigError("StepConfig.dt: must be finite and > 0, got " + num(cfg.dt));
@@ -372,6 +410,13 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
   // Each stage runs inside timed(t, stage, has_work, ...) (profile.hpp),
   // which only times it when cfg.times is set and the stage has work.
   StageTimes* const t = cfg.times;
+  // The coloured XPBD Distance sweep runs over the compiled stream, and so
+  // does the array order where its levels pay; the coloured XPBD hinges and
+  // tethers over theirs.
+  const bool levels = levels_apply(m, cfg);
+  const bool stream = (cfg.coloured && cfg.method == Method::xpbd && !m.get<Distance>().empty()) || levels;
+  const bool hinges = cfg.coloured && cfg.method == Method::xpbd && !m.get<DihedralBending>().empty();
+  const bool tethers = cfg.coloured && cfg.method == Method::xpbd && !m.get<Tether>().empty();
   timed(t, stage::step_setup, true, [&] {
     validate(cfg);
     check_state_matches(m, s);
@@ -395,6 +440,11 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
                           std::to_string(m.num_particles()) + " (use compile)");
       detail::chains_begin_step(m, s);
     }
+    // The streams' factors for this step's substep (the h below).
+    const Real sub_h = cfg.dt / Real(cfg.substeps);
+    if (stream) detail::stream_begin_step(m, s, sub_h, cfg.workers, levels);
+    if (hinges) detail::dihedral_begin_step(m, s, sub_h, cfg.workers);
+    if (tethers) detail::tether_begin_step(m, s, sub_h, cfg.workers);
   });
   const bool refresh = cfg.contact_margin > Real(0) && static_cast<bool>(cfg.refresh_contacts);
   if (refresh) detail::begin_paths(m, s);
@@ -415,13 +465,6 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
   sc.eval.planes = m.planes.data();
   sc.eval.penetration_side = s.penetration_side.data();
 
-  // The coloured XPBD Distance sweep runs over the compiled stream.
-  const bool stream = cfg.coloured && cfg.method == Method::xpbd && !m.get<Distance>().empty();
-  if (stream) timed(t, stage::step_setup, true, [&] { detail::stream_begin_step(m, s, h, cfg.workers); });
-  const bool hinges = cfg.coloured && cfg.method == Method::xpbd && !m.get<DihedralBending>().empty();
-  if (hinges) timed(t, stage::step_setup, true, [&] { detail::dihedral_begin_step(m, s, h, cfg.workers); });
-  const bool tethers = cfg.coloured && cfg.method == Method::xpbd && !m.get<Tether>().empty();
-  if (tethers) timed(t, stage::step_setup, true, [&] { detail::tether_begin_step(m, s, h, cfg.workers); });
   // The prediction writes the stream kernels' particle records (predict);
   // the substep's start too if a stream stage is damped.
   const std::size_t n4 = 4 * s.x.size();
@@ -491,7 +534,7 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
       // substep, and one substep per step, alternate too), runs last to first.
       sc.reverse = cfg.alternate_sweeps && ((s.sweeps + sweeps) & 1) != 0;
       ++sweeps;
-      solve_constraints(m, s, sc, cfg, it == 0, t, it == 0 ? records : 0);
+      solve_constraints(m, s, sc, cfg, levels, it == 0, t, it == 0 ? records : 0);
       if (chains) timed(t, stage::of<Distance>, true, [&] { detail::chains_solve(m, s, h, stream, cfg.chain_passes, cfg.chain_tolerance); });
       if (trees) timed(t, stage::of<Distance>, true, [&] { detail::trees_solve(m, s, h, stream, cfg.chain_passes, cfg.chain_tolerance); });
       timed(t, stage::self_collision_solve, !s.self_collision.pairs.empty(),
@@ -541,7 +584,7 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
     timed(t, stage::contact_velocities, !s.world_contacts.empty(),
           [&] { rigid::world_contact_velocities(s, h); });
   }
-  if (stream) detail::stream_end_step(m, s);
+  if (stream) detail::stream_end_step(m, s, levels);
   if (hinges) detail::dihedral_end_step(m, s);
   if (tethers) detail::tether_end_step(m, s);
   s.pin_target_prev = s.pin_target;  // same size: no allocation

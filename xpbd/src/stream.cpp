@@ -262,33 +262,47 @@ PairKernel distance_avx512_kernel() {
 }
 
 namespace {
-PairStream distance_pair(const Model& m, State& s) {
+PairStream distance_pair(const Model& m, State& s, bool levels) {
   const DistanceKernels& d = distance_kernels();
-  return {m.distance_stream, m.distance_colours,      s.stream_at, s.stream_inv_den, s.stream_gamma,
-          s.stream_lambda,   &project_stream_scalar, d.avx2,      d.avx512,         kMinDistancePerTask,
+  return {levels ? m.distance_level_stream : m.distance_stream,
+          levels ? m.distance_levels : m.distance_colours,
+          s.stream_at,
+          s.stream_inv_den,
+          s.stream_gamma,
+          s.stream_lambda,
+          &project_stream_scalar,
+          d.avx2,
+          d.avx512,
+          kMinDistancePerTask,
           true};
 }
 }  // namespace
 
-void stream_begin_step(const Model& m, State& s, Real h, Workers* workers) {
-  pair_begin_step(m, s, distance_pair(m, s), m.has_damping[type_index_v<Distance>], h, workers);
+void stream_begin_step(const Model& m, State& s, Real h, Workers* workers, bool levels) {
+  pair_begin_step(m, s, distance_pair(m, s, levels), m.has_damping[type_index_v<Distance>], h, workers);
 }
 
 void stream_sweep(const Model& m, State& s, const SolveContext& sc, bool damped, bool simd, bool first,
-                  bool pack, Workers* workers) {
-  pair_sweep(m, s, distance_pair(m, s), sc, damped, simd, first, pack, workers);
+                  bool pack, Workers* workers, bool levels) {
+  pair_sweep(m, s, distance_pair(m, s, levels), sc, damped, simd, first, pack, workers);
 }
 
 void scatter_lambda(const std::vector<Index>& order, const std::vector<Real>& from, std::vector<Real>& to) {
   for (std::size_t j = 0; j < order.size(); ++j) to[static_cast<std::size_t>(order[j])] = from[j];
 }
 
-void stream_end_step(const Model& m, State& s) {
-  scatter_lambda(m.distance_colours.order, s.stream_lambda, s.lambdas<Distance>());
+void stream_end_step(const Model& m, State& s, bool levels) {
+  scatter_lambda(levels ? m.distance_levels.order : m.distance_colours.order, s.stream_lambda,
+                 s.lambdas<Distance>());
 }
 
 DistanceStream make_distance_stream(const Model& m) {
   return make_pair_stream(m.get<Distance>(), m.distance_colours.order, m.inv_mass,
+                          [](const Distance& c) { return c.rest; });
+}
+
+DistanceStream make_distance_level_stream(const Model& m) {
+  return make_pair_stream(m.get<Distance>(), m.distance_levels.order, m.inv_mass,
                           [](const Distance& c) { return c.rest; });
 }
 

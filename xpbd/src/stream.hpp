@@ -178,10 +178,15 @@ void pair_sweep(const Model& m, State& s, const PairStream& p, const SolveContex
 
 // --- The Distance stream (stream.cpp) ---
 
+// Each of these runs the Distance stream of m.distance_colours, or with
+// `levels` that of m.distance_levels (array order's levels: step() runs
+// XPBD's array order that way where it pays). A step uses one of the two
+// throughout: they share the scratch in State.
+//
 // Sizes the stream scratch of `s` (no allocation after the first step) and
 // computes each element's at, 1/den and gamma for substeps of h: at the
 // start of every step.
-void stream_begin_step(const Model& m, State& s, Real h, Workers* workers);
+void stream_begin_step(const Model& m, State& s, Real h, Workers* workers, bool levels = false);
 // One sweep of the Distance elements, colour by colour (last to first for
 // sc.reverse): particles copied into State::stream_x, projected, copied
 // back. `first`: the first sweep of a substep, which takes every multiplier
@@ -190,11 +195,13 @@ void stream_begin_step(const Model& m, State& s, Real h, Workers* workers);
 // they already hold the positions (step() knows when: after another stream
 // stage's copy back, with nothing moved since). `workers` may be null.
 void stream_sweep(const Model& m, State& s, const SolveContext& sc, bool damped, bool simd, bool first,
-                  bool pack, Workers* workers);
+                  bool pack, Workers* workers, bool levels = false);
 // State::lambda of Distance from the stream multipliers: at the end of a step.
-void stream_end_step(const Model& m, State& s);
-// The compiled stream of m's Distance elements in m.distance_colours order.
+void stream_end_step(const Model& m, State& s, bool levels = false);
+// The compiled stream of m's Distance elements in m.distance_colours order,
+// and in m.distance_levels order.
 DistanceStream make_distance_stream(const Model& m);
+DistanceStream make_distance_level_stream(const Model& m);
 
 // Throws ConfigError, naming `who`, if the Distance or Tether stream lacks
 // its inv_mass_sum (a Model not made by compile).

@@ -64,6 +64,16 @@ struct Model {
   std::vector<Distance> distance_by_colour;
   // The same elements compiled for the XPBD kernel (distance_stream.hpp).
   DistanceStream distance_stream;
+  // Array order's levels of the Distance elements: element k's level is one
+  // more than the highest level of the earlier elements that share a
+  // particle with it, and each level keeps array order. A sweep over the
+  // levels in turn gives what the array-order sweep gives, bit for bit: an
+  // element still sees every earlier element that moved its particles, and
+  // elements of one level share none. step() runs XPBD's array order over
+  // this schedule's stream with the vector kernel where that pays
+  // (StepConfig::levels, uses_levels; docs/bench-levels.md).
+  ColourSchedule distance_levels;
+  DistanceStream distance_level_stream;
   // The DihedralBending elements' colour schedule and its compiled form
   // (dihedral_stream.hpp), for the coloured XPBD sweep.
   ColourSchedule dihedral_colours;

@@ -80,22 +80,33 @@ struct StepConfig {
   // calling thread. With XPBD the DihedralBending and Tether elements too
   // are swept colour by colour (Model::dihedral_colours, tether_colours)
   // over their compiled forms (dihedral_stream.hpp, distance_stream.hpp;
-  // AVX2 where the CPU has it). Off by default: ahead per unit time on free
-  // cloths and chains, but worse in depth where a heavy body squeezes cloth
-  // (docs/bench-coloured.md, "The switch tried, and not made"). Every other type keeps the
+  // AVX2 where the CPU has it). Off by default: worse in depth where a heavy
+  // body squeezes cloth (docs/bench-coloured.md, "The switch tried, and not
+  // made"), and since the array order runs over its levels (levels, below)
+  // no longer ahead per unit time on the 64 x 64 hanging cloth: about 0.9x
+  // the array order's time per substep for 1.6x its strain
+  // (docs/bench-levels.md). Every other type keeps the
   // array order. This is a different Gauss-Seidel order, so the result
   // differs from the array order's (both converge to the same solution, at
   // different rates). With alternate_sweeps, the reversed sweeps visit the
   // colours last to first. Measured on the 64 x 64 hanging cloth
   // (docs/bench-coloured.md, "Coloured sweep"): 12 colours; with the AVX2
-  // kernel an XPBD step is 2.1-2.4x (double) and 2.6-3.1x (float) as fast
-  // as in array order; per sweep it converges less (mean strain 1.3-1.7x
-  // the array order's at the same budget). With the earlier scalar coloured
-  // kernel (1.3x), at equal cost per frame it was more accurate from about
-  // 4 ms per frame up and less accurate below (strain about 0.023 against
-  // 0.017 at 2.6 ms); not measured again since. The same cloth tethered to
-  // its two pins ("bench_tethers"): 1.9-2.2x in double.
+  // kernel an XPBD step was 2.1-2.4x (double) and 2.6-3.1x (float) as fast
+  // as the array order element by element (levels off); per sweep it
+  // converges less (mean strain 1.3-1.7x the array order's at the same
+  // budget). The same cloth tethered to its two pins ("bench_tethers"):
+  // 1.9-2.2x in double.
   bool coloured = false;
+  // XPBD's array-order Distance sweep (coloured off) runs over array
+  // order's levels (Model::distance_levels) with the vector kernel: the same
+  // results bit for bit as the element-by-element kernel, 2.4-2.9 times as
+  // fast per step on cloths from 32 x 32 to 256 x 256, 2.0 times at 512 x
+  // 512 and 1024 x 1024 (docs/bench-levels.md). It
+  // applies only where the levels hold 3 elements or more on average (not
+  // on a single rope), with simd on, on a CPU with a vector kernel, and
+  // without direct_chains. Off = the element-by-element kernel; this exists
+  // to measure one against the other.
+  bool levels = true;
   // The coloured XPBD sweep runs the widest kernel this CPU has
   // (simd_kernel(): AVX-512, AVX2 or scalar; set_simd_kernel caps it), and
   // the prediction (every substep, in either order) runs an AVX-512 kernel
@@ -154,5 +165,11 @@ void step(const Model& model, State& state, const StepConfig& cfg);
 
 // Checks that cfg is valid; throws ConfigError naming the field and value.
 void validate(const StepConfig& cfg);
+
+// True where step(model, state, cfg) runs the array-order Distance sweep
+// over the model's levels with the vector kernel (StepConfig::levels says
+// where); false where it runs the element-by-element kernel or another
+// order. The result is the same bit for bit either way.
+bool uses_levels(const Model& model, const StepConfig& cfg);
 
 }  // namespace xpbd
