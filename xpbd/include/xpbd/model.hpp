@@ -67,9 +67,10 @@ struct Model {
   // Array order's levels of the Distance elements: element k's level is one
   // more than the highest level of the earlier elements that share a
   // particle with it, and each level keeps array order. A sweep over the
-  // levels in turn gives what the array-order sweep gives, bit for bit: an
-  // element still sees every earlier element that moved its particles, and
-  // elements of one level share none. step() runs XPBD's array order over
+  // levels in turn gives what the array-order sweep gives, bit for bit (but
+  // a coordinate of -0 that an element left alone touches may become +0:
+  // stream_kernel.hpp): an element still sees every earlier element that
+  // moved its particles, and elements of one level share none. step() runs XPBD's array order over
   // this schedule's stream with the vector kernel where that pays
   // (StepConfig::levels, uses_levels; docs/bench-levels.md).
   ColourSchedule distance_levels;

@@ -99,7 +99,8 @@ struct StepConfig {
   bool coloured = false;
   // XPBD's array-order Distance sweep (coloured off) runs over array
   // order's levels (Model::distance_levels) with the vector kernel: the same
-  // results bit for bit as the element-by-element kernel, 2.4-2.9 times as
+  // results bit for bit as the element-by-element kernel (but for the sign
+  // of a zero coordinate, docs/bench-levels.md), 2.4-2.9 times as
   // fast per step on cloths from 32 x 32 to 256 x 256, 2.0 times at 512 x
   // 512 and 1024 x 1024 (docs/bench-levels.md). It
   // applies only where the levels hold 3 elements or more on average (not
@@ -169,7 +170,8 @@ void validate(const StepConfig& cfg);
 // True where step(model, state, cfg) runs the array-order Distance sweep
 // over the model's levels with the vector kernel (StepConfig::levels says
 // where); false where it runs the element-by-element kernel or another
-// order. The result is the same bit for bit either way.
+// order. The result is the same bit for bit either way (but for the sign of
+// a zero coordinate: docs/bench-levels.md).
 bool uses_levels(const Model& model, const StepConfig& cfg);
 
 }  // namespace xpbd
