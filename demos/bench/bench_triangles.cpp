@@ -17,8 +17,11 @@
 // triangle contacts) is kept; the cloth's own step (xpbd::step from the
 // snapshot, no bodies, no contacts) is timed the same way. Printed: medians
 // in ms, and each contact time over the cloth's step measured in the same
-// run; last, the hierarchy's whole bridge step (its contacts and the XPBD
-// solve with them, wall clock). Before timing, both modes must give the same triangle and edge contacts, or
+// run; then the hierarchy's whole bridge step (its contacts and the XPBD
+// solve with them, wall clock); last, the cloth's step element by element
+// (StepConfig::levels off: what the cloth step cost before the array order
+// ran over its levels, docs/bench-levels.md) and the hierarchy's contacts
+// over it. Before timing, both modes must give the same triangle and edge contacts, or
 // the program exits with status 1.
 //
 //   cmake --build build/double --target bench_triangles && build/double/demos/bench/bench_triangles [n ...]
@@ -142,8 +145,9 @@ struct Scene {
     return s;
   }
 
-  // threaded: coloured, on the pool.
-  double cloth_step(bool threaded = false) {
+  // threaded: coloured, on the pool. levels: StepConfig::levels (off: the
+  // array order element by element, the cloth step before the levels).
+  double cloth_step(bool threaded = false, bool levels = true) {
     State st = snapshot;
     st.bodies.clear();
     st.contacts.clear();
@@ -155,6 +159,7 @@ struct Scene {
     c.substeps = 10;
     c.gravity = Vec3(0, Real(-9.81), 0);
     c.coloured = threaded;
+    c.levels = levels;
     c.workers = threaded ? pool.get() : nullptr;
     const auto t0 = std::chrono::steady_clock::now();
     step(*model, st, c);
@@ -217,12 +222,13 @@ int main(int argc, char** argv) {
     sizes.push_back(n);
   }
   std::printf("| cloth | triangles | triangle contacts | cloth step (ms) | contacts, loop (ms) | contacts, hierarchy (ms) "
-              "| loop / cloth step | hierarchy / cloth step | loop / hierarchy | bridge step, hierarchy (ms) |");
+              "| loop / cloth step | hierarchy / cloth step | loop / hierarchy | bridge step, hierarchy (ms) "
+              "| cloth step, element by element (ms) | hierarchy / that step |");
   if (threads > 1)
     std::printf(" hierarchy, %d threads (ms) | cloth step, coloured, %d threads (ms) | hierarchy / its %d threads "
                 "| hierarchy, %d threads / cloth step | the same / coloured step, %d threads |",
                 threads, threads, threads, threads, threads);
-  std::printf("\n|---|---|---|---|---|---|---|---|---|---|%s\n", threads > 1 ? "---|---|---|---|---|" : "");
+  std::printf("\n|---|---|---|---|---|---|---|---|---|---|---|---|%s\n", threads > 1 ? "---|---|---|---|---|" : "");
   for (const int n : sizes) {
     Scene s(n, threads);
     Found a, b, c;
@@ -234,21 +240,23 @@ int main(int argc, char** argv) {
                    n, threads > 1 ? " (or the threads' from one thread's)" : "");
       return 1;
     }
-    std::vector<double> loop, bvh, cloth, bvh_t, cloth_t, whole;
+    std::vector<double> loop, bvh, cloth, cloth_e, bvh_t, cloth_t, whole;
     for (int r = 0; r < kRepeats; ++r) {  // interleaved, so that load hits all of them alike
       loop.push_back(s.bridge_step(false));
       double w = 0;
       bvh.push_back(s.bridge_step(true, nullptr, false, &w));
       whole.push_back(w);
       cloth.push_back(s.cloth_step());
+      cloth_e.push_back(s.cloth_step(false, false));
       if (threads > 1) {
         bvh_t.push_back(s.bridge_step(true, nullptr, true));
         cloth_t.push_back(s.cloth_step(true));
       }
     }
     const double l = median(loop) * 1e3, h = median(bvh) * 1e3, cs = median(cloth) * 1e3;
-    std::printf("| %d x %d | %d | %zu | %.3f | %.3f | %.3f | %.2f | %.2f | %.1f | %.3f |", n, n, s.triangles, a.triangle.size(),
-                cs, l, h, l / cs, h / cs, l / h, median(whole) * 1e3);
+    const double ce = median(cloth_e) * 1e3;
+    std::printf("| %d x %d | %d | %zu | %.3f | %.3f | %.3f | %.2f | %.2f | %.1f | %.3f | %.3f | %.2f |", n, n,
+                s.triangles, a.triangle.size(), cs, l, h, l / cs, h / cs, l / h, median(whole) * 1e3, ce, h / ce);
     if (threads > 1) {
       const double ht = median(bvh_t) * 1e3, ct = median(cloth_t) * 1e3;
       std::printf(" %.3f | %.3f | %.2f | %.2f | %.2f |", ht, ct, h / ht, ht / cs, ht / ct);
