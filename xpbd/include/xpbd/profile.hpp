@@ -25,7 +25,9 @@ namespace xpbd {
 // Stage indices, in the order step() runs them.
 namespace stage {
 // Once per step: validation, the per-step constraint data (penetration
-// sides) and the host's rigid-body lists checked and sized.
+// sides), the host's rigid-body lists checked and sized, and the compiled
+// streams' per-step factors (the coloured sweeps, and the array order over
+// its levels).
 inline constexpr std::size_t step_setup = 0;
 // Once per step: the self-collision candidate search (spatial hash).
 inline constexpr std::size_t self_collision_search = 1;
