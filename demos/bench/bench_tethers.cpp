@@ -21,7 +21,9 @@
 //                        only;
 //   stream_scalar_sweep  the same with the scalar kernel.
 // Steps, reported as ms_per_step (20 substeps x 1 iteration, the whole
-// cloth: edges and tethers): step_array and step_coloured.
+// cloth: edges and tethers): step_array (element by element,
+// StepConfig::levels off), step_levels (the same over array order's levels
+// of both types, the default: the same bits) and step_coloured.
 // The timed section is the benchmark thread's CPU time. The summary prints
 // the medians and the ratios of this run.
 #include <benchmark/benchmark.h>
@@ -106,12 +108,13 @@ void BM_sweep(benchmark::State& bs, Kind kind) {
   bs.counters["tethers"] = double(cs.size());
 }
 
-void BM_step(benchmark::State& bs, bool coloured) {
+void BM_step(benchmark::State& bs, bool coloured, bool levels) {
   const Scene& s = scene();
   State st = s.snapshot;
   StepConfig cfg;
   cfg.substeps = 20;
   cfg.coloured = coloured;
+  cfg.levels = levels;
   double seconds = 0;
   for (auto _ : bs) {
     st = s.snapshot;  // untimed restore
@@ -153,9 +156,11 @@ class SummaryReporter : public benchmark::ConsoleReporter {
       std::printf("stream capped at avx2 %.2f; avx2 / %s %.2f\n", a2->second, xpbd::simd_kernel(),
                   a2->second / v->second);
     const auto sa = results_.find("step_array"), sv = results_.find("step_coloured");
-    if (sa != results_.end() && sv != results_.end())
-      std::printf("ms per step, 20 x 1 (medians): array %.3f, coloured %.3f; array / coloured %.2f\n", sa->second,
-                  sv->second, sa->second / sv->second);
+    const auto sl = results_.find("step_levels");
+    if (sa != results_.end() && sv != results_.end() && sl != results_.end())
+      std::printf("ms per step, 20 x 1 (medians): array %.3f, levels %.3f, coloured %.3f; array / levels %.2f, "
+                  "array / coloured %.2f\n",
+                  sa->second, sl->second, sv->second, sa->second / sl->second, sa->second / sv->second);
   }
 
  private:
@@ -177,8 +182,9 @@ int main(int argc, char** argv) {
   benchmark::RegisterBenchmark("stream_scalar_sweep", BM_sweep, Kind::stream_scalar)
       ->UseManualTime()
       ->Unit(benchmark::kMicrosecond);
-  benchmark::RegisterBenchmark("step_array", BM_step, false)->UseManualTime()->Unit(benchmark::kMillisecond);
-  benchmark::RegisterBenchmark("step_coloured", BM_step, true)->UseManualTime()->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("step_array", BM_step, false, false)->UseManualTime()->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("step_levels", BM_step, false, true)->UseManualTime()->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("step_coloured", BM_step, true, false)->UseManualTime()->Unit(benchmark::kMillisecond);
   SummaryReporter reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);
   reporter.summary();

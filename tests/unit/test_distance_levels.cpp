@@ -1,6 +1,6 @@
-// Array order's levels (Model::distance_levels, StepConfig::levels): XPBD's
-// array-order Distance sweep run level by level over a compiled stream with
-// the vector kernel.
+// Array order's levels (Model::distance_levels and tether_levels,
+// StepConfig::levels): XPBD's array-order Distance and Tether sweeps run
+// level by level over a compiled stream with the vector kernel.
 //
 // Checked here:
 //   - the schedule: a permutation of the elements, no two elements of a
@@ -11,8 +11,9 @@
 //   - the result: a step over the levels equals the element-by-element
 //     step bit for bit (positions, velocities, multipliers), undamped and
 //     damped, at one and two iterations, with alternating sweeps, and after
-//     set_material; while the coloured order, a different Gauss-Seidel
-//     order, differs (so the comparison can fail);
+//     set_material, and on a cloth tethered to its pins (the tethers'
+//     levels share only the anchors); while the coloured order, a different
+//     Gauss-Seidel order, differs (so the comparison can fail);
 //   - where it applies (uses_levels): not on a rope, in PBD, with coloured,
 //     simd or levels off, with direct_chains, nor on a Model whose levels do
 //     not cover its elements (which still steps, element by element).
@@ -20,9 +21,11 @@
 
 #include <cstring>
 #include <set>
+#include <string>
 #include <vector>
 
 #include "support/xpbd_test.hpp"
+#include "xpbd/distance_stream.hpp"
 #include "xpbd/materials.hpp"
 
 namespace xpbd {
@@ -42,6 +45,25 @@ Model cloth(int n, bool damped) {
   d.shear_mat.compliance = Real(1e-5);
   d.bend_mat.compliance = Real(1e-4);
   if (damped) d.stretch.damping = d.shear_mat.damping = d.bend_mat.damping = Real(10);
+  add_cloth_grid(scene, d);
+  return compile(scene);
+}
+
+// The cloth tethered to its two pins: a tether from every movable particle
+// to each pin (the anchors, inverse mass 0, shared by every tether of a pin).
+Model tethered_cloth(int n, bool damped) {
+  SceneDesc scene;
+  ClothGridDesc d;
+  d.nx = d.ny = n;
+  d.size_u = d.size_v = 1;
+  d.u = Vec3::UnitX();
+  d.v = Vec3::UnitZ();
+  d.mass = 1;
+  d.pinned = {{0, 0}, {n - 1, 0}};
+  d.stretch.compliance = Real(1e-6);
+  d.tethers = TetherAnchors::all_pinned;
+  d.tether_metric = TetherMetric::euclidean;
+  if (damped) d.stretch.damping = d.tether_mat.damping = Real(10);
   add_cloth_grid(scene, d);
   return compile(scene);
 }
@@ -122,6 +144,9 @@ TEST(DistanceLevels, ScheduleOfClothRopeAndTetBox) {
   EXPECT_GT(check_levels(tet_box()), 1);
 }
 
+// The levels run only on a CPU with a vector kernel (uses_levels).
+bool no_vector_kernel() { return std::string(simd_kernel()) == "scalar"; }
+
 bool same_bits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
 }
@@ -132,6 +157,7 @@ bool same_bits(const std::vector<Real>& a, const std::vector<Real>& b) {
 // Steps `m` with the levels and element by element (and coloured), from the
 // same state, and compares the results after every step.
 void expect_array_order_bits(const Model& m, int iterations, bool alternate) {
+  if (no_vector_kernel()) GTEST_SKIP() << "no vector kernel on this CPU: the levels do not run";
   StepConfig on;
   on.dt = Real(1) / 60;
   on.substeps = 10;
@@ -166,7 +192,69 @@ TEST(DistanceLevels, DampedStepEqualsTheArrayOrderBitForBit) { expect_array_orde
 TEST(DistanceLevels, TwoAlternatingIterationsEqualTheArrayOrderBitForBit) {
   expect_array_order_bits(cloth(24, true), 2, true);
 }
+// The Tether levels: no two elements of a level share a particle that
+// moves, and each element is above every earlier element that shares a
+// moving particle with it; the anchors (inverse mass 0) do not count.
+TEST(DistanceLevels, TetherScheduleSharesOnlyAnchors) {
+  const Model m = tethered_cloth(12, false);
+  const auto& cs = m.get<Tether>();
+  const ColourSchedule& l = m.tether_levels;
+  ASSERT_EQ(l.order.size(), cs.size());
+  ASSERT_EQ(m.tether_level_stream.size(), cs.size());
+  ASSERT_FALSE(l.begin.empty());
+  std::vector<Index> level_of(cs.size(), -1);
+  for (Index c = 0; c < l.num_colours(); ++c) {
+    std::set<Index> moving;
+    for (Index j = l.begin[std::size_t(c)]; j < l.begin[std::size_t(c) + 1]; ++j) {
+      const Index k = l.order[std::size_t(j)];
+      level_of[std::size_t(k)] = c;
+      for (Index p : cs[std::size_t(k)].p)
+        if (m.inv_mass[std::size_t(p)] != Real(0)) {
+          EXPECT_TRUE(moving.insert(p).second) << "level " << c;
+        }
+    }
+  }
+  std::vector<Index> last(std::size_t(m.num_particles()), -1);
+  for (std::size_t k = 0; k < cs.size(); ++k) {
+    for (Index p : cs[k].p) {
+      if (m.inv_mass[std::size_t(p)] == Real(0) || last[std::size_t(p)] < 0) continue;
+      EXPECT_LT(level_of[std::size_t(last[std::size_t(p)])], level_of[k]) << "elements " << last[std::size_t(p)]
+                                                                             << ", " << k;
+    }
+    for (Index p : cs[k].p) last[std::size_t(p)] = static_cast<Index>(k);
+  }
+  EXPECT_LE(l.num_colours(), 4);  // two tethers per particle: the anchors shared by all do not add levels
+}
+
+// Positions, velocities and both types' multipliers, levels on and off.
+void expect_tethered_bits(bool damped) {
+  if (no_vector_kernel()) GTEST_SKIP() << "no vector kernel on this CPU: the levels do not run";
+  const Model m = tethered_cloth(24, damped);
+  StepConfig on;
+  on.dt = Real(1) / 60;
+  on.substeps = 10;
+  StepConfig off = on;
+  off.levels = false;
+  ASSERT_TRUE(uses_levels(m, on));
+  State a = make_state(m), b = make_state(m);
+  for (int k = 0; k < 30; ++k) {
+    step(m, a, on);
+    step(m, b, off);
+    ASSERT_TRUE(same_bits(a.x, b.x)) << "positions, step " << k;
+    ASSERT_TRUE(same_bits(a.v, b.v)) << "velocities, step " << k;
+    ASSERT_TRUE(same_bits(a.lambdas<Tether>(), b.lambdas<Tether>())) << "tether multipliers, step " << k;
+    ASSERT_TRUE(same_bits(a.lambdas<Distance>(), b.lambdas<Distance>())) << "distance multipliers, step " << k;
+  }
+  Real pulled = 0;  // some tethers were taut
+  for (Real l : a.lambdas<Tether>()) pulled = std::max(pulled, std::abs(l));
+  EXPECT_GT(pulled, Real(0));
+}
+
+TEST(DistanceLevels, TetheredClothEqualsTheArrayOrderBitForBit) { expect_tethered_bits(false); }
+TEST(DistanceLevels, DampedTetheredClothEqualsTheArrayOrderBitForBit) { expect_tethered_bits(true); }
+
 TEST(DistanceLevels, TetBoxEqualsTheArrayOrderBitForBit) {
+  if (no_vector_kernel()) GTEST_SKIP() << "no vector kernel on this CPU: the levels do not run";
   const Model m = tet_box();
   StepConfig on;
   on.dt = Real(1) / 60;
@@ -184,6 +272,7 @@ TEST(DistanceLevels, TetBoxEqualsTheArrayOrderBitForBit) {
 // set_material refreshes the level stream: the new compliance is what both
 // kernels use.
 TEST(DistanceLevels, FollowsSetMaterial) {
+  if (no_vector_kernel()) GTEST_SKIP() << "no vector kernel on this CPU: the levels do not run";
   Model m = cloth(24, false);
   StepConfig on;
   on.dt = Real(1) / 60;
@@ -205,7 +294,7 @@ TEST(DistanceLevels, FollowsSetMaterial) {
 TEST(DistanceLevels, WhereTheyApply) {
   const Model c = cloth(16, false);
   StepConfig cfg;
-  EXPECT_TRUE(uses_levels(c, cfg));
+  EXPECT_EQ(uses_levels(c, cfg), !no_vector_kernel());
   EXPECT_FALSE(uses_levels(rope(40), cfg));  // one element per level: slower than element by element
   StepConfig pbd = cfg, coloured = cfg, scalar = cfg, off = cfg, chains = cfg;
   pbd.method = Method::pbd;

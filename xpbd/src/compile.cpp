@@ -305,19 +305,25 @@ ColourSchedule colour_elements(const std::vector<T>& cs, Index num_particles,
 // Array order's levels (Model::distance_levels): element k's level is one
 // more than the highest level of the earlier elements sharing one of its
 // particles, and the levels are laid out one after another, each in array
-// order (a stable counting sort). Cost: O(elements + particles).
+// order (a stable counting sort). With `inv_mass`, particles whose inverse
+// mass is 0 do not count as shared (Model::tether_levels). Cost:
+// O(elements + particles).
 template <class T>
-ColourSchedule level_elements(const std::vector<T>& cs, Index num_particles) {
+ColourSchedule level_elements(const std::vector<T>& cs, Index num_particles,
+                              const std::vector<Real>* inv_mass = nullptr) {
   ColourSchedule out;
   if (cs.empty()) return out;
   // last[i]: the level of the last element seen so far that touches particle i.
   std::vector<Index> last(static_cast<std::size_t>(num_particles), -1);
   std::vector<Index> level(cs.size());
   Index levels = 0;
+  auto counts = [&](Index p) { return inv_mass == nullptr || (*inv_mass)[static_cast<std::size_t>(p)] != Real(0); };
   for (std::size_t k = 0; k < cs.size(); ++k) {
     Index l = 0;
-    for (Index p : cs[k].p) l = std::max(l, last[static_cast<std::size_t>(p)] + 1);
-    for (Index p : cs[k].p) last[static_cast<std::size_t>(p)] = l;
+    for (Index p : cs[k].p)
+      if (counts(p)) l = std::max(l, last[static_cast<std::size_t>(p)] + 1);
+    for (Index p : cs[k].p)
+      if (counts(p)) last[static_cast<std::size_t>(p)] = l;
     level[k] = l;
     levels = std::max(levels, l + 1);
   }
@@ -506,6 +512,8 @@ Model compile(const SceneDesc& s) {
   m.dihedral_stream = detail::make_dihedral_stream(m);
   m.tether_colours = colour_elements(m.get<Tether>(), n, &m.inv_mass);
   m.tether_stream = detail::make_tether_stream(m);
+  m.tether_levels = level_elements(m.get<Tether>(), n, &m.inv_mass);
+  m.tether_level_stream = detail::make_tether_level_stream(m);
   m.chains = find_chains(m.get<Distance>(), n);
   {
     std::vector<Index> slot(m.get<Distance>().size(), 0);

@@ -48,6 +48,7 @@ void refresh_dihedral_stream(Model& m) {
 void refresh_tether_stream(Model& m) {
   if (m.tether_colours.order.size() != m.get<Tether>().size()) return;  // no schedule
   m.tether_stream = make_tether_stream(m);
+  if (m.tether_levels.order.size() == m.get<Tether>().size()) m.tether_level_stream = make_tether_level_stream(m);
 }
 
 }  // namespace xpbd::detail

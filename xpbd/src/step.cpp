@@ -266,31 +266,35 @@ void reset_multipliers(State& s, bool skip_distance, bool skip_dihedral, bool sk
   std::fill(s.self_collision.lambda.begin(), s.self_collision.lambda.end(), Real(0));
 }
 
-// Fewest Distance elements per level, on average, for the array order to
-// run over its levels (uses_levels). A rope (1 per level) stepped 0.89-0.94
+// Fewest elements per level, on average, for the array order to run over
+// its levels (uses_levels). A rope (1 per level) stepped 0.89-0.94
 // times as fast over its levels; cloths and tet boxes with 3.6 per level
 // 1.2-1.3 times (docs/bench-levels.md).
 constexpr std::size_t kMinPerLevel = 3;
 
-// True where XPBD's array-order Distance sweep runs over array order's
-// levels (Model::distance_levels) with the vector kernel (StepConfig::levels):
-// the same bits as the element-by-element kernel (model.hpp), faster. Not
-// with the coloured sweep (its own order), nor PBD (no stream), nor simd
-// off (the scalar kernels), nor direct_chains (its solve reads the coloured
-// stream's multipliers), nor on a CPU without a vector kernel; and only
-// where the levels hold kMinPerLevel elements on average. A Model whose
-// schedule does not cover its elements (edited after compile) takes the
-// element-by-element kernel.
-bool levels_apply(const Model& m, const StepConfig& cfg) {
-  if (!cfg.levels || cfg.coloured || cfg.method != Method::xpbd || !cfg.simd || cfg.direct_chains) return false;
-  const std::size_t n = m.get<Distance>().size();
-  const ColourSchedule& l = m.distance_levels;
-  if (n == 0 || l.order.size() != n || m.distance_level_stream.size() != n ||
-      m.distance_level_stream.inv_mass_sum.size() != n || l.begin.empty() || l.begin.front() != 0 ||
-      static_cast<std::size_t>(l.begin.back()) != n)
+// True where an XPBD array-order sweep of n elements runs over array
+// order's levels `l` (Model::distance_levels, tether_levels) and their
+// stream `st` with the vector kernel (StepConfig::levels): the same bits as
+// the element-by-element kernel (model.hpp), faster. Not with the coloured
+// sweep (its own order), nor PBD (no stream), nor simd off (the scalar
+// kernels), nor on a CPU without a vector kernel; and only where the levels
+// hold kMinPerLevel elements on average. A Model whose schedule does not
+// cover its elements (edited after compile) takes the element-by-element
+// kernel. (The Distance sweep also not with direct_chains, whose solve
+// reads the coloured stream's multipliers: step() below.)
+bool levels_apply(const ColourSchedule& l, const DistanceStream& st, std::size_t n, const StepConfig& cfg) {
+  if (!cfg.levels || cfg.coloured || cfg.method != Method::xpbd || !cfg.simd) return false;
+  if (n == 0 || l.order.size() != n || st.size() != n || st.inv_mass_sum.size() != n || l.begin.empty() ||
+      l.begin.front() != 0 || static_cast<std::size_t>(l.begin.back()) != n)
     return false;
   if (detail::simd_level(true) == detail::Simd::scalar) return false;
   return n >= kMinPerLevel * static_cast<std::size_t>(l.num_colours());
+}
+bool distance_levels_apply(const Model& m, const StepConfig& cfg) {
+  return !cfg.direct_chains && levels_apply(m.distance_levels, m.distance_level_stream, m.get<Distance>().size(), cfg);
+}
+bool tether_levels_apply(const Model& m, const StepConfig& cfg) {
+  return levels_apply(m.tether_levels, m.tether_level_stream, m.get<Tether>().size(), cfg);
 }
 
 // One Gauss-Seidel sweep over every constraint type, in ConstraintTypes order
@@ -298,10 +302,11 @@ bool levels_apply(const Model& m, const StepConfig& cfg) {
 // StepConfig::coloured: Distance in the order of m.distance_colours, with
 // XPBD over the compiled stream (stream.hpp; on cfg.workers when set), and
 // with XPBD DihedralBending and Tether over their own streams in the order
-// of m.dihedral_colours and m.tether_colours. `levels` (uses_levels): the
-// array-order XPBD Distance sweep over the stream of m.distance_levels.
+// of m.dihedral_colours and m.tether_colours. `levels`, `tether_levels`
+// (uses_levels): the array-order XPBD Distance or Tether sweep over the
+// stream of m.distance_levels or m.tether_levels.
 void solve_constraints(const Model& m, State& s, const SolveContext& sc, const StepConfig& cfg, bool levels,
-                       bool first, StageTimes* times, int records_in) {
+                       bool tether_levels, bool first, StageTimes* times, int records_in) {
   const bool coloured = cfg.coloured;
   // What the particle records (State::stream_x, stream_x_prev) hold: after
   // a stream stage has copied them back, the positions (and the substep's
@@ -329,6 +334,13 @@ void solve_constraints(const Model& m, State& s, const SolveContext& sc, const S
           if (levels) {
             stream_stage(damped, [&](bool pack) {
               detail::stream_sweep(m, s, sc, damped, cfg.simd, first, pack, cfg.workers, true);
+            });
+            return;
+          }
+        } else if constexpr (std::is_same_v<T, Tether>) {
+          if (tether_levels) {
+            stream_stage(damped, [&](bool pack) {
+              detail::tether_sweep(m, s, sc, damped, cfg.simd, first, pack, cfg.workers, true);
             });
             return;
           }
@@ -372,7 +384,9 @@ void solve_constraints(const Model& m, State& s, const SolveContext& sc, const S
 
 }  // namespace
 
-bool uses_levels(const Model& m, const StepConfig& cfg) { return levels_apply(m, cfg); }
+bool uses_levels(const Model& m, const StepConfig& cfg) {
+  return distance_levels_apply(m, cfg) || tether_levels_apply(m, cfg);
+}
 
 void validate(const StepConfig& cfg) {
   if (!(cfg.dt > Real(0)) || !std::isfinite(cfg.dt))
@@ -413,10 +427,10 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
   // The coloured XPBD Distance sweep runs over the compiled stream, and so
   // does the array order where its levels pay; the coloured XPBD hinges and
   // tethers over theirs.
-  const bool levels = levels_apply(m, cfg);
+  const bool levels = distance_levels_apply(m, cfg), tether_levels = tether_levels_apply(m, cfg);
   const bool stream = (cfg.coloured && cfg.method == Method::xpbd && !m.get<Distance>().empty()) || levels;
   const bool hinges = cfg.coloured && cfg.method == Method::xpbd && !m.get<DihedralBending>().empty();
-  const bool tethers = cfg.coloured && cfg.method == Method::xpbd && !m.get<Tether>().empty();
+  const bool tethers = (cfg.coloured && cfg.method == Method::xpbd && !m.get<Tether>().empty()) || tether_levels;
   timed(t, stage::step_setup, true, [&] {
     validate(cfg);
     check_state_matches(m, s);
@@ -444,7 +458,7 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
     const Real sub_h = cfg.dt / Real(cfg.substeps);
     if (stream) detail::stream_begin_step(m, s, sub_h, cfg.workers, levels);
     if (hinges) detail::dihedral_begin_step(m, s, sub_h, cfg.workers);
-    if (tethers) detail::tether_begin_step(m, s, sub_h, cfg.workers);
+    if (tethers) detail::tether_begin_step(m, s, sub_h, cfg.workers, tether_levels);
   });
   const bool refresh = cfg.contact_margin > Real(0) && static_cast<bool>(cfg.refresh_contacts);
   if (refresh) detail::begin_paths(m, s);
@@ -534,7 +548,7 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
       // substep, and one substep per step, alternate too), runs last to first.
       sc.reverse = cfg.alternate_sweeps && ((s.sweeps + sweeps) & 1) != 0;
       ++sweeps;
-      solve_constraints(m, s, sc, cfg, levels, it == 0, t, it == 0 ? records : 0);
+      solve_constraints(m, s, sc, cfg, levels, tether_levels, it == 0, t, it == 0 ? records : 0);
       if (chains) timed(t, stage::of<Distance>, true, [&] { detail::chains_solve(m, s, h, stream, cfg.chain_passes, cfg.chain_tolerance); });
       if (trees) timed(t, stage::of<Distance>, true, [&] { detail::trees_solve(m, s, h, stream, cfg.chain_passes, cfg.chain_tolerance); });
       timed(t, stage::self_collision_solve, !s.self_collision.pairs.empty(),
@@ -586,7 +600,7 @@ void step(const Model& m, State& s, const StepConfig& cfg) {
   }
   if (stream) detail::stream_end_step(m, s, levels);
   if (hinges) detail::dihedral_end_step(m, s);
-  if (tethers) detail::tether_end_step(m, s);
+  if (tethers) detail::tether_end_step(m, s, tether_levels);
   s.pin_target_prev = s.pin_target;  // same size: no allocation
   s.sweeps += sweeps;
   s.time += cfg.dt;

@@ -227,11 +227,12 @@ DistanceStream make_pair_stream(const std::vector<T>& es, const std::vector<Inde
 
 // --- The Tether stream (tether_stream.cpp), the same steps ---
 
-void tether_begin_step(const Model& m, State& s, Real h, Workers* workers);
+void tether_begin_step(const Model& m, State& s, Real h, Workers* workers, bool levels = false);
 void tether_sweep(const Model& m, State& s, const SolveContext& sc, bool damped, bool simd, bool first,
-                  bool pack, Workers* workers);
-void tether_end_step(const Model& m, State& s);
+                  bool pack, Workers* workers, bool levels = false);
+void tether_end_step(const Model& m, State& s, bool levels = false);
 DistanceStream make_tether_stream(const Model& m);
+DistanceStream make_tether_level_stream(const Model& m);
 
 // --- The DihedralBending stream (dihedral_stream.cpp), the same steps ---
 

@@ -87,6 +87,12 @@ struct Model {
   // schedule holds for the inverse masses compile() set.
   ColourSchedule tether_colours;
   DistanceStream tether_stream;
+  // Array order's levels of the Tether elements and their compiled form,
+  // as distance_levels, but for the particles whose inverse mass is 0 (the
+  // anchors): no element writes them, so elements that share only such a
+  // particle share a level (the same exception as tether_colours).
+  ColourSchedule tether_levels;
+  DistanceStream tether_level_stream;
   // The Distance elements' chains (chains.hpp) and trees (trees.hpp), for
   // StepConfig::direct_chains.
   Chains chains;

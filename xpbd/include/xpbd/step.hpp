@@ -97,8 +97,9 @@ struct StepConfig {
   // budget). The same cloth tethered to its two pins ("bench_tethers"):
   // 1.9-2.2x in double.
   bool coloured = false;
-  // XPBD's array-order Distance sweep (coloured off) runs over array
-  // order's levels (Model::distance_levels) with the vector kernel: the same
+  // XPBD's array-order Distance and Tether sweeps (coloured off) run over
+  // array order's levels (Model::distance_levels, tether_levels) with the
+  // vector kernels: the same
   // results bit for bit as the element-by-element kernel (but for the sign
   // of a zero coordinate, docs/bench-levels.md), 2.4-2.9 times as
   // fast per step on cloths from 32 x 32 to 256 x 256, 2.0 times at 512 x
@@ -167,10 +168,10 @@ void step(const Model& model, State& state, const StepConfig& cfg);
 // Checks that cfg is valid; throws ConfigError naming the field and value.
 void validate(const StepConfig& cfg);
 
-// True where step(model, state, cfg) runs the array-order Distance sweep
-// over the model's levels with the vector kernel (StepConfig::levels says
-// where); false where it runs the element-by-element kernel or another
-// order. The result is the same bit for bit either way (but for the sign of
+// True where step(model, state, cfg) runs an array-order sweep (Distance,
+// Tether or both) over the model's levels with the vector kernel
+// (StepConfig::levels says where); false where it runs the element-by-element
+// kernels or another order. The result is the same bit for bit either way (but for the sign of
 // a zero coordinate: docs/bench-levels.md).
 bool uses_levels(const Model& model, const StepConfig& cfg);
 
