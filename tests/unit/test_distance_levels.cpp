@@ -154,6 +154,26 @@ bool same_bits(const std::vector<Real>& a, const std::vector<Real>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Real)) == 0;
 }
 
+// Steps `m` `steps` times from `from` with `on` (levels on) and with levels
+// off, and asserts after every step that both give the same bits:
+// positions, velocities, and the Distance and Tether multipliers. Returns
+// the state stepped with the levels.
+State expect_same_steps(const Model& m, const StepConfig& on, int steps, const State& from) {
+  StepConfig off = on;
+  off.levels = false;
+  State a = from, b = from;
+  for (int k = 0; k < steps; ++k) {
+    step(m, a, on);
+    step(m, b, off);
+    EXPECT_TRUE(same_bits(a.x, b.x)) << "positions, step " << k;
+    EXPECT_TRUE(same_bits(a.v, b.v)) << "velocities, step " << k;
+    EXPECT_TRUE(same_bits(a.lambdas<Distance>(), b.lambdas<Distance>())) << "distance multipliers, step " << k;
+    EXPECT_TRUE(same_bits(a.lambdas<Tether>(), b.lambdas<Tether>())) << "tether multipliers, step " << k;
+    if (::testing::Test::HasFailure()) break;
+  }
+  return a;
+}
+
 // Steps `m` with the levels and element by element (and coloured), from the
 // same state, and compares the results after every step.
 void expect_array_order_bits(const Model& m, int iterations, bool alternate) {
@@ -233,18 +253,8 @@ void expect_tethered_bits(bool damped) {
   StepConfig on;
   on.dt = Real(1) / 60;
   on.substeps = 10;
-  StepConfig off = on;
-  off.levels = false;
   ASSERT_TRUE(uses_levels(m, on));
-  State a = make_state(m), b = make_state(m);
-  for (int k = 0; k < 30; ++k) {
-    step(m, a, on);
-    step(m, b, off);
-    ASSERT_TRUE(same_bits(a.x, b.x)) << "positions, step " << k;
-    ASSERT_TRUE(same_bits(a.v, b.v)) << "velocities, step " << k;
-    ASSERT_TRUE(same_bits(a.lambdas<Tether>(), b.lambdas<Tether>())) << "tether multipliers, step " << k;
-    ASSERT_TRUE(same_bits(a.lambdas<Distance>(), b.lambdas<Distance>())) << "distance multipliers, step " << k;
-  }
+  const State a = expect_same_steps(m, on, 30, make_state(m));
   Real pulled = 0;  // some tethers were taut
   for (Real l : a.lambdas<Tether>()) pulled = std::max(pulled, std::abs(l));
   EXPECT_GT(pulled, Real(0));
@@ -258,15 +268,8 @@ TEST(DistanceLevels, TetBoxEqualsTheArrayOrderBitForBit) {
   const Model m = tet_box();
   StepConfig on;
   on.dt = Real(1) / 60;
-  StepConfig off = on;
-  off.levels = false;
   ASSERT_TRUE(uses_levels(m, on));
-  State a = make_state(m), b = make_state(m);
-  for (int k = 0; k < 30; ++k) {
-    step(m, a, on);
-    step(m, b, off);
-    ASSERT_TRUE(same_bits(a.x, b.x)) << "step " << k;
-  }
+  expect_same_steps(m, on, 30, make_state(m));
 }
 
 // set_material refreshes the level stream: the new compliance is what both
@@ -276,16 +279,10 @@ TEST(DistanceLevels, FollowsSetMaterial) {
   Model m = cloth(24, false);
   StepConfig on;
   on.dt = Real(1) / 60;
-  StepConfig off = on;
-  off.levels = false;
-  State a = make_state(m), b = make_state(m), before = make_state(m);
+  State before = make_state(m);
   for (int k = 0; k < 10; ++k) step(m, before, on);
   set_material<Distance>(m, 0, m.get<Distance>().size() / 2, Material{Real(1e-2), Real(0.5), 1});
-  for (int k = 0; k < 10; ++k) {
-    step(m, a, on);
-    step(m, b, off);
-  }
-  ASSERT_TRUE(same_bits(a.x, b.x));
+  const State a = expect_same_steps(m, on, 10, make_state(m));
   Real differs = 0;  // the soft half does stretch more than before the change
   for (std::size_t i = 0; i < a.x.size(); ++i) differs = std::max(differs, (a.x[i] - before.x[i]).norm());
   EXPECT_GT(differs, Real(1e-3));

@@ -260,23 +260,43 @@ void compile_global_volumes(const SceneDesc& s, Model& m) {
   }
 }
 
+// Whether particle p counts as shared between elements: always, or with
+// inverse masses, only if it can move (no kernel writes a particle of
+// inverse mass 0).
+bool shared(const std::vector<Real>* inv_mass, Index p) {
+  return inv_mass == nullptr || (*inv_mass)[static_cast<std::size_t>(p)] != Real(0);
+}
+
+// The schedule of elements whose colour (or level) is group[k], of `groups`
+// groups: the groups one after another, each in array order (a stable
+// counting sort).
+ColourSchedule lay_out(const std::vector<Index>& group, Index groups) {
+  ColourSchedule out;
+  out.begin.assign(static_cast<std::size_t>(groups) + 1, 0);
+  for (Index g : group) ++out.begin[static_cast<std::size_t>(g) + 1];
+  for (Index g = 0; g < groups; ++g)
+    out.begin[static_cast<std::size_t>(g) + 1] += out.begin[static_cast<std::size_t>(g)];
+  std::vector<Index> next(out.begin.begin(), out.begin.end() - 1);
+  out.order.resize(group.size());
+  for (std::size_t k = 0; k < group.size(); ++k)
+    out.order[static_cast<std::size_t>(next[static_cast<std::size_t>(group[k])]++)] = static_cast<Index>(k);
+  return out;
+}
+
 // Greedy colouring of elements in array order (Model::ColourSchedule):
 // element k takes the smallest colour that no earlier element sharing one
-// of its particles has. The colours are then laid out one after another,
-// each in array order (a stable counting sort). Cost: O(sum over elements
-// of the degrees of their particles). With `inv_mass`, particles whose
-// inverse mass is 0 do not count as shared (Model::tether_colours).
+// of its particles has; then lay_out. Cost: O(sum over elements of the
+// degrees of their particles). With `inv_mass`, particles whose inverse
+// mass is 0 do not count as shared (Model::tether_colours).
 template <class T>
 ColourSchedule colour_elements(const std::vector<T>& cs, Index num_particles,
                                const std::vector<Real>* inv_mass = nullptr) {
-  ColourSchedule out;
-  if (cs.empty()) return out;
+  if (cs.empty()) return ColourSchedule{};
   // used[i]: the colours of the elements seen so far that touch particle i.
   std::vector<std::vector<Index>> used(static_cast<std::size_t>(num_particles));
   std::vector<Index> colour(cs.size());
   std::vector<char> taken;  // scratch, indexed by colour, all 0 between elements
   Index ncol = 0;
-  auto counts = [&](Index p) { return inv_mass == nullptr || (*inv_mass)[static_cast<std::size_t>(p)] != Real(0); };
   for (std::size_t k = 0; k < cs.size(); ++k) {
     taken.resize(static_cast<std::size_t>(ncol) + 1, 0);
     for (Index p : cs[k].p)
@@ -287,55 +307,35 @@ ColourSchedule colour_elements(const std::vector<T>& cs, Index num_particles,
       for (Index u : used[static_cast<std::size_t>(p)]) taken[static_cast<std::size_t>(u)] = 0;
     colour[k] = c;
     for (Index p : cs[k].p)
-      if (counts(p)) used[static_cast<std::size_t>(p)].push_back(c);
+      if (shared(inv_mass, p)) used[static_cast<std::size_t>(p)].push_back(c);
     ncol = std::max(ncol, c + 1);
   }
-  out.begin.assign(static_cast<std::size_t>(ncol) + 1, 0);
-  for (Index c : colour) ++out.begin[static_cast<std::size_t>(c) + 1];
-  for (Index c = 0; c < ncol; ++c)
-    out.begin[static_cast<std::size_t>(c) + 1] += out.begin[static_cast<std::size_t>(c)];
-  std::vector<Index> next(out.begin.begin(), out.begin.end() - 1);
-  out.order.resize(cs.size());
-  for (std::size_t k = 0; k < cs.size(); ++k)
-    out.order[static_cast<std::size_t>(next[static_cast<std::size_t>(colour[k])]++)] =
-        static_cast<Index>(k);
-  return out;
+  return lay_out(colour, ncol);
 }
 
 // Array order's levels (Model::distance_levels): element k's level is one
 // more than the highest level of the earlier elements sharing one of its
-// particles, and the levels are laid out one after another, each in array
-// order (a stable counting sort). With `inv_mass`, particles whose inverse
-// mass is 0 do not count as shared (Model::tether_levels). Cost:
-// O(elements + particles).
+// particles; then lay_out. With `inv_mass`, particles whose inverse mass is
+// 0 do not count as shared (Model::tether_levels). Cost: O(elements +
+// particles).
 template <class T>
 ColourSchedule level_elements(const std::vector<T>& cs, Index num_particles,
                               const std::vector<Real>* inv_mass = nullptr) {
-  ColourSchedule out;
-  if (cs.empty()) return out;
+  if (cs.empty()) return ColourSchedule{};
   // last[i]: the level of the last element seen so far that touches particle i.
   std::vector<Index> last(static_cast<std::size_t>(num_particles), -1);
   std::vector<Index> level(cs.size());
   Index levels = 0;
-  auto counts = [&](Index p) { return inv_mass == nullptr || (*inv_mass)[static_cast<std::size_t>(p)] != Real(0); };
   for (std::size_t k = 0; k < cs.size(); ++k) {
     Index l = 0;
     for (Index p : cs[k].p)
-      if (counts(p)) l = std::max(l, last[static_cast<std::size_t>(p)] + 1);
+      if (shared(inv_mass, p)) l = std::max(l, last[static_cast<std::size_t>(p)] + 1);
     for (Index p : cs[k].p)
-      if (counts(p)) last[static_cast<std::size_t>(p)] = l;
+      if (shared(inv_mass, p)) last[static_cast<std::size_t>(p)] = l;
     level[k] = l;
     levels = std::max(levels, l + 1);
   }
-  out.begin.assign(static_cast<std::size_t>(levels) + 1, 0);
-  for (Index l : level) ++out.begin[static_cast<std::size_t>(l) + 1];
-  for (Index l = 0; l < levels; ++l)
-    out.begin[static_cast<std::size_t>(l) + 1] += out.begin[static_cast<std::size_t>(l)];
-  std::vector<Index> next(out.begin.begin(), out.begin.end() - 1);
-  out.order.resize(cs.size());
-  for (std::size_t k = 0; k < cs.size(); ++k)
-    out.order[static_cast<std::size_t>(next[static_cast<std::size_t>(level[k])]++)] = static_cast<Index>(k);
-  return out;
+  return lay_out(level, levels);
 }
 
 }  // namespace
