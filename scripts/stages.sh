@@ -42,7 +42,8 @@ scalar=$(sed -n 's/.*"scalar": *"\([a-z]*\)".*/\1/p' "out/stages/$(echo "$scenes
   echo "scene does not use the stage, so it costs nothing there (the stage is neither run nor timed)."
   echo "Stages in the order they run (xpbd/include/xpbd/profile.hpp, xpbd_bullet::SystemTimes):"
   echo
-  echo "- \`step_setup\`: per step, config and state checks, penetration sides, host body lists, the streams' per-step factors;"
+  echo "- \`step_setup\`: per step, config and state checks, penetration sides, host body lists,"
+  echo "  the streams' per-step factors;"
   echo "- \`self_collision_search\`: per step, particle pairs from the spatial hash;"
   echo "- \`predict\`: per substep, pin targets, particle and body prediction, multiplier reset;"
   echo "- one row per constraint type with elements (\`distance\` ... \`pin\`): per iteration;"
