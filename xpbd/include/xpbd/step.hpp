@@ -99,14 +99,13 @@ struct StepConfig {
   bool coloured = false;
   // XPBD's array-order Distance and Tether sweeps (coloured off) run over
   // array order's levels (Model::distance_levels, tether_levels) with the
-  // vector kernels: the same
-  // results bit for bit as the element-by-element kernel (but for the sign
-  // of a zero coordinate, docs/bench-levels.md), 2.4-2.9 times as
-  // fast per step on cloths from 32 x 32 to 256 x 256, 2.0 times at 512 x
-  // 512 and 1024 x 1024 (docs/bench-levels.md). It
-  // applies only where the levels hold 3 elements or more on average (not
-  // on a single rope), with simd on, on a CPU with a vector kernel, and
-  // without direct_chains. Off = the element-by-element kernel; this exists
+  // vector kernels: the same results bit for bit as the element-by-element
+  // kernels (but for the sign of a zero coordinate), 2.4-2.9 times as fast
+  // per step on cloths from 32 x 32 to 256 x 256 and 2.0 times at 512 x 512
+  // and 1024 x 1024 (docs/bench-levels.md). Each type's levels apply only
+  // where they hold 3 elements or more on average (not on a single rope),
+  // with simd on, on a CPU with a vector kernel; the Distance levels not
+  // with direct_chains. Off = the element-by-element kernels; this exists
   // to measure one against the other.
   bool levels = true;
   // The coloured XPBD sweep runs the widest kernel this CPU has
@@ -170,9 +169,10 @@ void validate(const StepConfig& cfg);
 
 // True where step(model, state, cfg) runs an array-order sweep (Distance,
 // Tether or both) over the model's levels with the vector kernel
-// (StepConfig::levels says where); false where it runs the element-by-element
-// kernels or another order. The result is the same bit for bit either way (but for the sign of
-// a zero coordinate: docs/bench-levels.md).
+// (StepConfig::levels says where); false where it runs the
+// element-by-element kernels or another order. The result is the same bit
+// for bit either way (but for the sign of a zero coordinate:
+// docs/bench-levels.md).
 bool uses_levels(const Model& model, const StepConfig& cfg);
 
 }  // namespace xpbd
