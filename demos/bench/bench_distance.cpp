@@ -540,8 +540,8 @@ class SummaryReporter : public benchmark::ConsoleReporter {
         std::printf("%s\n", wide ? " -" : "");
     }
     if (colours_ > 0) std::printf("colours in the cloth's Distance schedule: %.0f\n", colours_);
-    std::printf("stream kernels on this CPU: %s (Distance: %s); precision: %s\n", simd_kernel(), distance_kernel(),
-                sizeof(Real) == 8 ? "double" : "float");
+    std::printf("stream kernels on this CPU: %s (Distance: %s, its levels: %s); precision: %s\n", simd_kernel(),
+                distance_kernel(), distance_kernel(true), sizeof(Real) == 8 ? "double" : "float");
   }
 
  private:

@@ -153,9 +153,9 @@ class Summary : public benchmark::ConsoleReporter {
 
   void summary() const {
     std::printf("\n%s; ns per particle per substep and per distance projection, %d substeps x 1,\n"
-                "stream kernels: %s (Distance: %s), precision: %s; ratios measured in this run\n",
+                "stream kernels: %s (Distance: %s, its levels: %s), precision: %s; ratios measured in this run\n",
                 medians_.empty() ? "single runs" : "medians of repetitions", kSubsteps, simd_kernel(), distance_kernel(),
-                sizeof(Real) == 8 ? "double" : "float");
+                distance_kernel(true), sizeof(Real) == 8 ? "double" : "float");
     std::printf("%6s %11s %11s %11s %11s %11s %11s %13s %13s %13s\n", "N", "array/p", "lev/p", "col/p", "col2/p",
                 "col/proj", "col2/proj", "array/lev", "array/col", "col/col2");
     for (int n : kSizes) {

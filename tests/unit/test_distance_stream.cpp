@@ -67,7 +67,8 @@ TEST(DistanceStream, HoldsTheColouredElementsAndFollowsSetMaterial) {
 
 // set_simd_kernel takes the three names (and "auto") and refuses any
 // other, and any kernel this build or CPU does not have, naming the value;
-// the cap shows in simd_kernel() and distance_kernel() and is lifted again.
+// the cap shows in simd_kernel() and distance_kernel() (the colours' and
+// the levels') and is lifted again.
 TEST(DistanceStream, KernelCapIsCheckedAndNamed) {
   const std::string widest = simd_kernel();
   for (const char* bad : {"avx1024", "", "AVX2"}) {
@@ -91,6 +92,7 @@ TEST(DistanceStream, KernelCapIsCheckedAndNamed) {
     const test::KernelCap cap("scalar");
     EXPECT_STREQ(simd_kernel(), "scalar");
     EXPECT_STREQ(distance_kernel(), "scalar");
+    EXPECT_STREQ(distance_kernel(true), "scalar");
   }
   EXPECT_EQ(std::string(simd_kernel()), widest);
   // The Distance sweep runs a named kernel ("avx512" in float, which has
@@ -104,12 +106,18 @@ TEST(DistanceStream, KernelCapIsCheckedAndNamed) {
     EXPECT_STREQ(simd_kernel(), k == "avx512-ymm" ? "avx512" : k.c_str());
     const std::string named = k == "avx512" && sizeof(Real) == sizeof(float) ? (ymm ? "avx512-ymm" : "avx2") : k;
     EXPECT_EQ(std::string(distance_kernel()), named);
+    EXPECT_EQ(std::string(distance_kernel(true)), named);  // the levels' too: a named kernel is not measured
   }
-  const std::string d = distance_kernel();
-  if (widest == "avx512")
-    EXPECT_TRUE(d == "avx2" || (d == "avx512" && sizeof(Real) == sizeof(double)) || (d == "avx512-ymm" && ymm)) << d;
-  else
-    EXPECT_EQ(d, widest);
+  // By default the colours' and the levels' kernels are each measured
+  // (on long and on short runs), so each may be any vector kernel.
+  for (const bool levels : {false, true}) {
+    const std::string d = distance_kernel(levels);
+    if (widest == "avx512")
+      EXPECT_TRUE(d == "avx2" || (d == "avx512" && sizeof(Real) == sizeof(double)) || (d == "avx512-ymm" && ymm))
+          << d << (levels ? " (levels)" : "");
+    else
+      EXPECT_EQ(d, widest);
+  }
   if (!ymm) {
     try {
       set_simd_kernel("avx512-ymm");

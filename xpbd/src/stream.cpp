@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <iterator>
 #include <limits>
 #include <string>
 
@@ -175,7 +176,7 @@ void pair_sweep(const Model& m, State& s, const PairStream& p, const SolveContex
   a.x = s.stream_x.data();
   a.x_prev = damped ? s.stream_x_prev.data() : nullptr;
   const Simd level = simd_level(simd);
-  const PairKernel k = p.measured && level == Simd::avx512 ? distance_avx512_kernel()
+  const PairKernel k = p.measured && level == Simd::avx512 ? distance_avx512_kernel(p.levels)
                                                            : pick_kernel(level, p.scalar, p.avx2, p.avx512);
   // The colours, then the records back into s.x.
   sweep_colours_then(
@@ -208,9 +209,14 @@ namespace {
 // Of the kernels (the non-null ones), the one that sweeps a test colour
 // fastest: kElements disjoint pairs of particle records along x, as a
 // cloth row's structural edges, compliant (at = 0.01), swept kRounds times
-// by each kernel in turn; the one with the shortest best time. Every
-// kernel gives the same bits, so the choice changes the speed only.
-PairKernel fastest_of(const std::vector<PairKernel>& kernels) {
+// by each kernel in turn; the one with the shortest best time. With
+// `levels`, each sweep calls the kernel over short runs instead, as the
+// array order's levels are (kLevelRuns: the mean level of a grid cloth of
+// 16², 32², 64² and 128², docs/bench-levels.md), so that each kernel's
+// tail of single elements per run counts. Every kernel gives the same
+// bits, so the choice changes the speed only.
+PairKernel fastest_of(const std::vector<PairKernel>& kernels, bool levels) {
+  constexpr std::size_t kLevelRuns[] = {21, 45, 93, 189};
   constexpr std::size_t kElements = 4096;
   constexpr int kRounds = 16;
   std::vector<Index> a(kElements), b(kElements);
@@ -236,28 +242,41 @@ PairKernel fastest_of(const std::vector<PairKernel>& kernels) {
   for (int r = 0; r < kRounds; ++r)
     for (std::size_t w = 0; w < kernels.size(); ++w) {
       const auto t0 = std::chrono::steady_clock::now();
-      kernels[w](args, 0, kElements, false, false);
+      if (levels) {
+        for (std::size_t lo = 0, i = 0; lo < kElements; ++i) {
+          const std::size_t hi = std::min(kElements, lo + kLevelRuns[i % std::size(kLevelRuns)]);
+          kernels[w](args, lo, hi, false, false);
+          lo = hi;
+        }
+      } else {
+        kernels[w](args, 0, kElements, false, false);
+      }
       best[w] = std::min(best[w], std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     }
   return kernels[std::size_t(std::min_element(best.begin(), best.end()) - best.begin())];
 }
 }  // namespace
 
-PairKernel distance_avx512_kernel() {
+PairKernel distance_avx512_kernel(bool levels) {
   const DistanceKernels& d = distance_kernels();
   if (!simd_auto.load(std::memory_order_relaxed)) {
     if (d.avx512 != nullptr && !distance_ymm.load(std::memory_order_relaxed)) return d.avx512;
     return d.avx512_ymm != nullptr ? d.avx512_ymm : d.avx2;
   }
-  // Measured once per process (a function-local static: the first caller
-  // measures, any other waits for it).
-  static const PairKernel fastest = [&d] {
+  // Measured once per process and shape (function-local statics: the
+  // first caller measures, any other waits for it).
+  const auto measure = [&d](bool short_runs) {
     std::vector<PairKernel> k;
     for (const PairKernel c : {d.avx2, d.avx512_ymm, d.avx512})
       if (c != nullptr) k.push_back(c);
     if (k.empty()) return PairKernel(&project_stream_scalar);  // not on a CPU with AVX-512F (all have AVX2)
-    return k.size() == 1 ? k[0] : fastest_of(k);
-  }();
+    return k.size() == 1 ? k[0] : fastest_of(k, short_runs);
+  };
+  if (levels) {
+    static const PairKernel fastest_levels = measure(true);
+    return fastest_levels;
+  }
+  static const PairKernel fastest = measure(false);
   return fastest;
 }
 
@@ -274,7 +293,8 @@ PairStream distance_pair(const Model& m, State& s, bool levels) {
           d.avx2,
           d.avx512,
           kMinDistancePerTask,
-          true};
+          true,
+          levels};
 }
 }  // namespace
 
@@ -366,11 +386,11 @@ void project_tether_stream(const Model& m, State& s, const SolveContext& sc, boo
 
 const char* simd_kernel() { return detail::simd_name(detail::simd_level(true)); }
 
-const char* distance_kernel() {
+const char* distance_kernel(bool levels) {
   using detail::Simd;
   const Simd level = detail::simd_level(true);
   if (level != Simd::avx512) return detail::simd_name(level);
-  const detail::PairKernel k = detail::distance_avx512_kernel();
+  const detail::PairKernel k = detail::distance_avx512_kernel(levels);
   const detail::DistanceKernels& d = detail::distance_kernels();
   return k == d.avx512 ? "avx512" : k == d.avx512_ymm ? "avx512-ymm" : k == d.avx2 ? "avx2" : "scalar";
 }

@@ -148,6 +148,9 @@ struct PairStream {
   // The Distance stream's: where the CPU allows AVX-512, its kernel is
   // distance_avx512_kernel's choice, not simply the widest.
   bool measured = false;
+  // The Distance stream of the array order's levels (short colours): its
+  // choice is measured on short runs (distance_avx512_kernel).
+  bool levels = false;
 };
 // The Distance kernels, null where this build or CPU has none: AVX2,
 // AVX-512 at 256 bits (AVX-512VL, stream_avx512_ymm.cpp) and at 512 bits
@@ -163,8 +166,12 @@ const DistanceKernels& distance_kernels();
 // measured at the first call and kept for the process (stream.cpp). On
 // an AMD EPYC (Zen 4) the 256-bit AVX-512 kernel was the fastest, and the
 // 512-bit one 0.8 times as fast as AVX2; on an Intel Xeon the 512-bit one
-// was 1.3-1.5 times as fast as AVX2 (docs/bench-coloured.md).
-PairKernel distance_avx512_kernel();
+// was 1.3-1.5 times as fast as AVX2 (docs/bench-coloured.md). With
+// `levels` the measure sweeps short runs, the shape of the array order's
+// levels (tens to hundreds of elements each): there the 512-bit kernel's
+// groups of 16 leave up to 15 elements per level to its scalar tail
+// (docs/bench-levels.md, "The kernel of the levels").
+PairKernel distance_avx512_kernel(bool levels = false);
 // The Distance colours' threshold: 256 elements are about 0.75 us of
 // AVX-512 work, as much as handing out an empty job to two threads (about
 // 0.75 us); see kMinParticlesPerTask.

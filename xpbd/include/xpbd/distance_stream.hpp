@@ -84,8 +84,11 @@ const char* simd_kernel();
 // "avx512", "avx512-ymm", "avx2" or "scalar": the kernel step() runs for
 // the coloured XPBD Distance sweep with StepConfig::simd on (see above;
 // the one set_simd_kernel names, if it named one). The first call may time
-// the vector kernels (about a millisecond), if no sweep has yet.
-const char* distance_kernel();
+// the vector kernels (about a millisecond), if no sweep has yet. With
+// `levels`: the kernel of the array order's sweep over its levels
+// (StepConfig::levels), timed on short runs, the levels' shape, since the
+// 512-bit kernel leaves more of each short run to its scalar tail.
+const char* distance_kernel(bool levels = false);
 
 // Caps the kernel of the coloured sweeps for the whole process at `name`
 // ("avx512", "avx2" or "scalar"), the Distance sweep's included: a named
