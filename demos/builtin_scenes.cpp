@@ -184,7 +184,7 @@ SceneSpec rope_pendulum() {
 SceneSpec trampoline() {
   // The integration test's trampoline (tests/integration/test_world_coupling):
   // a 10 kg ball on a 0.1 kg cloth pinned at its four corners, with the
-  // settings that mass ratio needs (docs/bullet-bridge.md, section 6).
+  // settings that mass ratio needs (docs/bridge-limitations.md).
   SceneSpec s;
   s.name = "trampoline";
   s.description = "10 kg ball dropped onto a 0.1 kg cloth pinned at its 4 corners (100:1 mass ratio)";

@@ -89,7 +89,7 @@ struct CompareScene {
   // RunOptions::rigid_steps = substeps) where a coupled body also rests on
   // another Bullet body: that contact is Bullet's, solved once per Bullet
   // step, and at one step per frame cloth_on_sphere's box, pressed by the
-  // cloth, sinks into the ground (docs/bullet-bridge.md section 6). Scenes
+  // cloth, sinks into the ground (docs/bridge-limitations.md). Scenes
   // with a dynamic body also run XPBD the other way (alt_rigid_method), to
   // measure the difference in the same sweep.
   bool rigid_substeps = false;

@@ -1,5 +1,5 @@
-// A coupled body that also rests on another Bullet body (docs/bullet-bridge.md
-// section 6, item 7): the built-in cloth_on_sphere scene, whose 0.2 kg box
+// A coupled body that also rests on another Bullet body (docs/bridge-limitations.md,
+// item 7): the built-in cloth_on_sphere scene, whose 0.2 kg box
 // lies on the ground (centre at 0.1 m) and is pressed by the 0.3 kg cloth
 // falling onto it. The box's contacts with the ground are solved inside the
 // XPBD substeps (SystemSettings::coupled_static_contacts, on by default), and

@@ -52,7 +52,7 @@ void add_floor(BulletWorld& bw) {
 // the floor, on a box standing free: within 1 s when these contacts had
 // no friction; with their friction, this cloth, stiff in bending, still
 // tips off the ridge like a plate, while a bend-soft one stays:
-// test_world_triangle_friction, docs/bullet-bridge.md section 6 item 2);
+// test_world_triangle_friction, docs/bridge-limitations.md item 2);
 // with its hems on the floor, friction holds it.
 //
 // The feature meets the cloth between particles: the ridge runs midway

@@ -11,7 +11,7 @@
 // and does not drift (the first and last second of that window within
 // 0.05 mm of each other).
 //
-// What this catches (docs/bullet-bridge.md section 6, item 7): the residual
+// What this catches (docs/bridge-limitations.md, item 7): the residual
 // applied after Bullet's step was clipped against the ground's manifold
 // points as if each were touching, whatever its gap at the body's pose, so
 // a box lifted a little could never come back down; with that fault the
