@@ -47,7 +47,7 @@ void add_random_bodies(BulletWorld& bw, int bodies, unsigned seed) {
 
 
 xpbd_bullet::SystemId add_cloth(XpbdWorld& xw, btRigidBody* bar, const SystemSettings& set, bool triangles,
-                                unsigned wrinkle_seed) {
+                                unsigned wrinkle_seed, Real bend, Real shear) {
   xpbd::SceneDesc scene;
   xpbd::ClothGridDesc c;
   c.nx = c.ny = kN;
@@ -55,6 +55,8 @@ xpbd_bullet::SystemId add_cloth(XpbdWorld& xw, btRigidBody* bar, const SystemSet
   c.mass = kClothMass;
   c.origin = kBarStart + Vec3(-0.5, -kBarHalf.y(), 0);
   c.collision_triangles = triangles;
+  c.bend_mat.compliance = bend;
+  c.shear_mat.compliance = shear;
   const xpbd::ClothGrid grid = xpbd::add_cloth_grid(scene, c);
   std::mt19937 rng(wrinkle_seed);
   std::uniform_real_distribution<double> u(-1, 1);

@@ -73,8 +73,11 @@ void add_random_bodies(BulletWorld& bw, int bodies, unsigned seed = 12345);
 // 1 m above the ground, to the last frame, and never squeezed it.
 // triangles: the cloth's faces collide with the bar's corners and edges
 // (ClothGridDesc::collision_triangles). wrinkle_seed: the offsets' seed.
+// bend, shear: the compliances (m/N) of the bending and shear distance
+// edges; 0, the application's, makes every edge rigid (squeeze_rest.cpp
+// measures softer ones).
 xpbd_bullet::SystemId add_cloth(XpbdWorld& xw, btRigidBody* bar, const SystemSettings& set, bool triangles = false,
-                                unsigned wrinkle_seed = 1);
+                                unsigned wrinkle_seed = 1, Real bend = 0, Real shear = 0);
 
 // after_solve = false turns off what answers Bullet's own contacts moving
 // the bodies after XPBD ran (ContactSettings::settle and spacers).
