@@ -17,6 +17,8 @@
 #   scripts/squeeze_seeds.sh --iterations 2     Gauss-Seidel sweeps per substep (SystemSettings::iterations)
 #   scripts/squeeze_seeds.sh --contact-sweeps 8 extra sweeps where contacts need them (SystemSettings::contact_sweeps)
 #   scripts/squeeze_seeds.sh --hierarchy        SystemSettings::hierarchy (--alternate-sweeps: alternate_sweeps)
+#   scripts/squeeze_seeds.sh --bend 0.1         the cloth's bending edges at 0.1 m/N (--shear C: its shear
+#                                               edges; both rigid, 0, by default)
 #   scripts/squeeze_seeds.sh --seeds 5-8        wrinkle seeds 5 to 8 only (--seeds 5: one seed)
 set -euo pipefail
 cd "$(dirname "$0")/.."

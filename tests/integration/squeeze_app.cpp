@@ -71,7 +71,7 @@ xpbd_bullet::SystemId add_cloth(XpbdWorld& xw, btRigidBody* bar, const SystemSet
 
 Result run(int bodies, bool cloth, int contact_sweeps, bool after_solve, int substeps, unsigned wrinkle_seed,
            int frames, double penetration, bool wedges, bool surface_edges, double strain,
-           const std::function<void(SystemSettings&)>& tweak) {
+           const std::function<void(SystemSettings&)>& tweak, Real bend, Real shear) {
   BulletWorld bw;
   bw.add_body(new btStaticPlaneShape(btVector3(0, 1, 0), 0), 0, BulletWorld::at(Vec3::Zero()));
   btRigidBody* bar = bw.add_body(new btBoxShape(bt(kBarHalf)), kBarMass, BulletWorld::at(kBarStart));
@@ -87,7 +87,7 @@ Result run(int bodies, bool cloth, int contact_sweeps, bool after_solve, int sub
   set.tolerance.strain = strain;
   if (tweak) tweak(set);
   xpbd_bullet::SystemId id;
-  if (cloth) id = add_cloth(xw, bar, set, false, wrinkle_seed);
+  if (cloth) id = add_cloth(xw, bar, set, false, wrinkle_seed, bend, shear);
   Result r;
   r.sweeps_per_step = 0;
   std::vector<const btCollisionObject*> near;

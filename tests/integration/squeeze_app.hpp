@@ -86,12 +86,13 @@ xpbd_bullet::SystemId add_cloth(XpbdWorld& xw, btRigidBody* bar, const SystemSet
 // the fixed budget); wedges: ContactSettings::wedges; surface_edges:
 // ContactSettings::surface_edge_contacts; strain: the tolerance's strain
 // target (SystemSettings::tolerance.strain, 0 = off); tweak: called on
-// the system's settings last, for any other setting (the campaign's flags).
+// the system's settings last, for any other setting (the campaign's flags);
+// bend, shear: add_cloth's compliances.
 Result run(int bodies, bool cloth, int contact_sweeps = 0, bool after_solve = true, int substeps = 0,
            unsigned wrinkle_seed = 1, int frames = kFrames,
            double penetration = SystemSettings{}.tolerance.penetration, bool wedges = true,
            bool surface_edges = xpbd_bullet::ContactSettings{}.surface_edge_contacts,
            double strain = SystemSettings{}.tolerance.strain,
-           const std::function<void(SystemSettings&)>& tweak = {});
+           const std::function<void(SystemSettings&)>& tweak = {}, Real bend = 0, Real shear = 0);
 
 }  // namespace xpbd_bullet::test::squeeze

@@ -4,7 +4,8 @@
 // one line per seed.
 //
 //   xpbd_squeeze_campaign [--surface-edges | --no-surface-edges] [--strain S] [--substeps N] [--iterations N]
-//                         [--contact-sweeps N] [--hierarchy] [--alternate-sweeps] [--seeds A-B]
+//                         [--contact-sweeps N] [--hierarchy] [--alternate-sweeps] [--bend C] [--shear C]
+//                         [--seeds A-B]
 //
 // --surface-edges, --no-surface-edges: ContactSettings::surface_edge_contacts
 // on (its default since 2026-11-29) or off.
@@ -13,6 +14,8 @@
 // --iterations N: SystemSettings::iterations N (1 <= N <= 1000).
 // --contact-sweeps N: SystemSettings::contact_sweeps N (0 <= N <= 1000).
 // --hierarchy, --alternate-sweeps: SystemSettings::hierarchy, alternate_sweeps on.
+// --bend C, --shear C: the compliance (m/N, >= 0) of the cloth's bending and
+// shear distance edges (default 0: rigid; squeeze_app.hpp, add_cloth).
 // --seeds A-B: wrinkle seeds A to B (1 <= A <= B), or one seed: --seeds A.
 #include <cstdio>
 #include <cstdlib>
@@ -38,12 +41,13 @@ int main(int argc, char** argv) {
   double strain = SystemSettings{}.tolerance.strain;
   unsigned first = 1, last = 32;
   int substeps = 0;  // run(): 0 for the default
+  Real bend = 0, shear = 0;
   SystemSettings other;  // the settings run() takes from the flags through its tweak
   const auto usage = [](const char* why, const char* arg) {
     std::fprintf(stderr,
                  "xpbd_squeeze_campaign: %s '%s' (usage: [--surface-edges | --no-surface-edges] [--strain S] "
                  "[--substeps N] [--iterations N] [--contact-sweeps N] [--hierarchy] [--alternate-sweeps] "
-                 "[--seeds A-B])\n",
+                 "[--bend C] [--shear C] [--seeds A-B])\n",
                  why, arg);
     return 2;
   };
@@ -75,6 +79,15 @@ int main(int argc, char** argv) {
       other.hierarchy = true;
     } else if (std::strcmp(argv[a], "--alternate-sweeps") == 0) {
       other.alternate_sweeps = true;
+    } else if ((std::strcmp(argv[a], "--bend") == 0 || std::strcmp(argv[a], "--shear") == 0) && a + 1 < argc) {
+      const bool is_bend = argv[a][2] == 'b';
+      char* end = nullptr;
+      const double c = std::strtod(argv[++a], &end);
+      if (end == argv[a] || *end != '\0' || !(c >= 0) || !(c < 1e6))
+        return usage(is_bend ? "--bend needs a compliance >= 0 (m/N), got"
+                             : "--shear needs a compliance >= 0 (m/N), got",
+                     argv[a]);
+      (is_bend ? bend : shear) = Real(c);
     } else if (std::strcmp(argv[a], "--seeds") == 0 && a + 1 < argc) {
       const std::string v = argv[++a];
       const std::size_t dash = v.find('-');
@@ -92,7 +105,8 @@ int main(int argc, char** argv) {
                            set.iterations = other.iterations;
                            set.hierarchy = other.hierarchy;
                            set.alternate_sweeps = other.alternate_sweeps;
-                         });
+                         },
+                         bend, shear);
     // The bar's mean speed over the last 100 frames (from its centre's
     // path): whether the pile has come to rest.
     double speed = 0;
