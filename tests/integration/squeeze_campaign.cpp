@@ -23,16 +23,7 @@
 #include <string>
 
 #include "squeeze_app.hpp"
-
-namespace {
-
-// A whole positive number, or 0 if `s` is not one.
-unsigned parse_whole(const std::string& s) {
-  if (s.empty() || s.size() > 6 || s.find_first_not_of("0123456789") != std::string::npos) return 0;
-  return unsigned(std::stoul(s));
-}
-
-}  // namespace
+#include "squeeze_args.hpp"
 
 int main(int argc, char** argv) {
   using namespace xpbd_bullet::test;
@@ -79,21 +70,12 @@ int main(int argc, char** argv) {
       other.hierarchy = true;
     } else if (std::strcmp(argv[a], "--alternate-sweeps") == 0) {
       other.alternate_sweeps = true;
-    } else if ((std::strcmp(argv[a], "--bend") == 0 || std::strcmp(argv[a], "--shear") == 0) && a + 1 < argc) {
-      const bool is_bend = argv[a][2] == 'b';
-      char* end = nullptr;
-      const double c = std::strtod(argv[++a], &end);
-      if (end == argv[a] || *end != '\0' || !(c >= 0) || !(c < 1e6))
-        return usage(is_bend ? "--bend needs a compliance >= 0 (m/N), got"
-                             : "--shear needs a compliance >= 0 (m/N), got",
-                     argv[a]);
-      (is_bend ? bend : shear) = Real(c);
+    } else if (std::strcmp(argv[a], "--bend") == 0 && a + 1 < argc) {
+      if (!parse_compliance(argv[++a], bend)) return usage("--bend needs a compliance >= 0 (m/N), got", argv[a]);
+    } else if (std::strcmp(argv[a], "--shear") == 0 && a + 1 < argc) {
+      if (!parse_compliance(argv[++a], shear)) return usage("--shear needs a compliance >= 0 (m/N), got", argv[a]);
     } else if (std::strcmp(argv[a], "--seeds") == 0 && a + 1 < argc) {
-      const std::string v = argv[++a];
-      const std::size_t dash = v.find('-');
-      first = parse_whole(v.substr(0, dash));
-      last = dash == std::string::npos ? first : parse_whole(v.substr(dash + 1));
-      if (first < 1 || last < first) return usage("--seeds needs A-B with 1 <= A <= B, got", argv[a]);
+      if (!parse_seeds(argv[++a], first, last)) return usage("--seeds needs A-B with 1 <= A <= B, got", argv[a]);
     } else {
       return usage("unknown or incomplete argument", argv[a]);
     }

@@ -21,17 +21,12 @@
 #include <string>
 
 #include "squeeze_app.hpp"
+#include "squeeze_args.hpp"
 
 namespace {
 
 using namespace xpbd_bullet::test;
 using namespace xpbd_bullet::test::squeeze;
-
-// A whole positive number, or 0 if `s` is not one.
-unsigned parse_whole(const std::string& s) {
-  if (s.empty() || s.size() > 6 || s.find_first_not_of("0123456789") != std::string::npos) return 0;
-  return unsigned(std::stoul(s));
-}
 
 struct Stretch {
   Real largest = 0;  // largest (|x_a - x_b| - rest) / rest
@@ -88,13 +83,6 @@ int main(int argc, char** argv) {
                  why, arg);
     return 2;
   };
-  const auto compliance = [](const char* s, Real& out) {
-    char* end = nullptr;
-    const double c = std::strtod(s, &end);
-    if (end == s || *end != '\0' || !(c >= 0) || !(c < 1e6)) return false;
-    out = Real(c);
-    return true;
-  };
   for (int a = 1; a < argc; ++a) {
     if (std::strcmp(argv[a], "--substeps") == 0 && a + 1 < argc) {
       const std::string v = argv[++a];
@@ -106,15 +94,11 @@ int main(int argc, char** argv) {
       lo = int(l);
       hi = int(h);
     } else if (std::strcmp(argv[a], "--bend") == 0 && a + 1 < argc) {
-      if (!compliance(argv[++a], bend)) return usage("--bend needs a compliance >= 0 (m/N), got", argv[a]);
+      if (!parse_compliance(argv[++a], bend)) return usage("--bend needs a compliance >= 0 (m/N), got", argv[a]);
     } else if (std::strcmp(argv[a], "--shear") == 0 && a + 1 < argc) {
-      if (!compliance(argv[++a], shear)) return usage("--shear needs a compliance >= 0 (m/N), got", argv[a]);
+      if (!parse_compliance(argv[++a], shear)) return usage("--shear needs a compliance >= 0 (m/N), got", argv[a]);
     } else if (std::strcmp(argv[a], "--seeds") == 0 && a + 1 < argc) {
-      const std::string v = argv[++a];
-      const std::size_t dash = v.find('-');
-      first = parse_whole(v.substr(0, dash));
-      last = dash == std::string::npos ? first : parse_whole(v.substr(dash + 1));
-      if (first < 1 || last < first) return usage("--seeds needs A-B with 1 <= A <= B, got", argv[a]);
+      if (!parse_seeds(argv[++a], first, last)) return usage("--seeds needs A-B with 1 <= A <= B, got", argv[a]);
     } else {
       return usage("unknown or incomplete argument", argv[a]);
     }
