@@ -35,4 +35,24 @@ inline bool parse_compliance(const char* s, Real& out) {
   return true;
 }
 
+// The flags both programs take: --bend C, --shear C (the cloth's
+// compliances) and --seeds A-B. If argv[a] is one of them with a value,
+// takes it (a moves onto the value) and returns 1, or -1 with `why` set if
+// the value is bad; returns 0 for any other argument.
+struct ClothAndSeeds {
+  Real bend = 0, shear = 0;
+  unsigned first = 1, last = 1;
+};
+inline int take_cloth_and_seeds(int argc, char** argv, int& a, ClothAndSeeds& out, const char*& why) {
+  const std::string flag = argv[a];
+  if ((flag != "--bend" && flag != "--shear" && flag != "--seeds") || a + 1 >= argc) return 0;
+  const char* v = argv[++a];
+  if (flag == "--seeds") {
+    why = "--seeds needs A-B with 1 <= A <= B, got";
+    return parse_seeds(v, out.first, out.last) ? 1 : -1;
+  }
+  why = flag == "--bend" ? "--bend needs a compliance >= 0 (m/N), got" : "--shear needs a compliance >= 0 (m/N), got";
+  return parse_compliance(v, flag == "--bend" ? out.bend : out.shear) ? 1 : -1;
+}
+
 }  // namespace xpbd_bullet::test::squeeze

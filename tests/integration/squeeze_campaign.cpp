@@ -30,9 +30,10 @@ int main(int argc, char** argv) {
   using namespace xpbd_bullet::test::squeeze;
   bool surface_edges = xpbd_bullet::ContactSettings{}.surface_edge_contacts;
   double strain = SystemSettings{}.tolerance.strain;
-  unsigned first = 1, last = 32;
+  ClothAndSeeds cs;  // the cloth's compliances and the seeds
+  cs.first = 1;
+  cs.last = 32;
   int substeps = 0;  // run(): 0 for the default
-  Real bend = 0, shear = 0;
   SystemSettings other;  // the settings run() takes from the flags through its tweak
   const auto usage = [](const char* why, const char* arg) {
     std::fprintf(stderr,
@@ -70,17 +71,13 @@ int main(int argc, char** argv) {
       other.hierarchy = true;
     } else if (std::strcmp(argv[a], "--alternate-sweeps") == 0) {
       other.alternate_sweeps = true;
-    } else if (std::strcmp(argv[a], "--bend") == 0 && a + 1 < argc) {
-      if (!parse_compliance(argv[++a], bend)) return usage("--bend needs a compliance >= 0 (m/N), got", argv[a]);
-    } else if (std::strcmp(argv[a], "--shear") == 0 && a + 1 < argc) {
-      if (!parse_compliance(argv[++a], shear)) return usage("--shear needs a compliance >= 0 (m/N), got", argv[a]);
-    } else if (std::strcmp(argv[a], "--seeds") == 0 && a + 1 < argc) {
-      if (!parse_seeds(argv[++a], first, last)) return usage("--seeds needs A-B with 1 <= A <= B, got", argv[a]);
+    } else if (const char* why = nullptr; const int t = take_cloth_and_seeds(argc, argv, a, cs, why)) {
+      if (t < 0) return usage(why, argv[a]);
     } else {
       return usage("unknown or incomplete argument", argv[a]);
     }
   }
-  for (unsigned seed = first; seed <= last; ++seed) {
+  for (unsigned seed = cs.first; seed <= cs.last; ++seed) {
     const Result r = run(49, true, other.contact_sweeps, true, substeps, seed, kFrames,
                          SystemSettings{}.tolerance.penetration, true, surface_edges, strain,
                          [&](SystemSettings& set) {
@@ -88,7 +85,7 @@ int main(int argc, char** argv) {
                            set.hierarchy = other.hierarchy;
                            set.alternate_sweeps = other.alternate_sweeps;
                          },
-                         bend, shear);
+                         cs.bend, cs.shear);
     // The bar's mean speed over the last 100 frames (from its centre's
     // path): whether the pile has come to rest.
     double speed = 0;

@@ -75,8 +75,8 @@ void run_seed(unsigned seed, int lo, int hi, Real bend, Real shear) {
 
 int main(int argc, char** argv) {
   int lo = 10, hi = 50;
-  Real bend = 0, shear = 0;
-  unsigned first = 1, last = 4;
+  ClothAndSeeds cs;  // the cloth's compliances and the seeds
+  cs.last = 4;
   const auto usage = [](const char* why, const char* arg) {
     std::fprintf(stderr,
                  "xpbd_squeeze_rest: %s '%s' (usage: [--substeps LO,HI] [--bend C] [--shear C] [--seeds A-B])\n",
@@ -93,16 +93,12 @@ int main(int argc, char** argv) {
         return usage("--substeps needs LO,HI, two whole numbers from 1 to 1000, got", argv[a]);
       lo = int(l);
       hi = int(h);
-    } else if (std::strcmp(argv[a], "--bend") == 0 && a + 1 < argc) {
-      if (!parse_compliance(argv[++a], bend)) return usage("--bend needs a compliance >= 0 (m/N), got", argv[a]);
-    } else if (std::strcmp(argv[a], "--shear") == 0 && a + 1 < argc) {
-      if (!parse_compliance(argv[++a], shear)) return usage("--shear needs a compliance >= 0 (m/N), got", argv[a]);
-    } else if (std::strcmp(argv[a], "--seeds") == 0 && a + 1 < argc) {
-      if (!parse_seeds(argv[++a], first, last)) return usage("--seeds needs A-B with 1 <= A <= B, got", argv[a]);
+    } else if (const char* why = nullptr; const int t = take_cloth_and_seeds(argc, argv, a, cs, why)) {
+      if (t < 0) return usage(why, argv[a]);
     } else {
       return usage("unknown or incomplete argument", argv[a]);
     }
   }
-  for (unsigned seed = first; seed <= last; ++seed) run_seed(seed, lo, hi, bend, shear);
+  for (unsigned seed = cs.first; seed <= cs.last; ++seed) run_seed(seed, lo, hi, cs.bend, cs.shear);
   return 0;
 }
