@@ -9,7 +9,9 @@
 //   - the AVX2 and the scalar kernel give the same results bit for bit over
 //     30 steps of a falling cloth (skipped on a CPU without AVX2);
 //   - the multipliers come back to their elements: a hanging rope's top
-//     link carries the weight below it.
+//     link carries the weight below it;
+//   - the per-step factors a state keeps follow a new substep and a new
+//     material: the rope's links stretch by compliance times their load.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -304,6 +306,85 @@ TEST(DistanceStream, MultipliersComeBackToTheirElements) {
     EXPECT_NEAR(std::abs(s.lambdas<Distance>()[k]) / (h * h), carried * g, Real(0.01) * carried * g)
         << "link " << k;
   }
+}
+
+
+// The per-step factors (compliance/h^2 and the denominators) are kept from
+// step to step (State::stream_factors) and must follow a new substep and a
+// new material. Converged, each link of a rope obeys Hooke's law: its
+// stretch is its compliance times its tension, lambda / h^2 (XPBD's
+// C + alpha lambda / h^2 = 0); factors kept from another h or material would
+// make it (h / h_old)^2 or alpha_old / alpha times that.
+TEST(DistanceStream, KeptFactorsFollowTheSubstepAndTheMaterial) {
+  {
+    const bool coloured = true;  // a rope's array order runs element by element, without the stream
+    SceneDesc d;
+    RopeDesc r;
+    r.n = 11;
+    r.spacing = Real(0.1);
+    r.mass = Real(0.2);
+    r.mat.compliance = Real(1e-3);
+    add_rope(d, r);
+    Model m = compile(d);
+    State s = make_state(m);
+    StepConfig cfg;
+    cfg.coloured = coloured;
+    cfg.iterations = 40;
+    cfg.dt = Real(1) / 60;
+    const auto hooke = [&](Real compliance, const char* when) {
+      const Real h = s.last_substep;
+      const auto& links = m.get<Distance>();
+      for (std::size_t k = 0; k < links.size(); ++k) {
+        const Real len = (s.x[std::size_t(links[k].p[0])] - s.x[std::size_t(links[k].p[1])]).norm();
+        const Real tension = std::abs(s.lambdas<Distance>()[k]) / (h * h);
+        EXPECT_GT(tension, Real(0.1)) << when << ", link " << k;  // it carries at least one particle
+        EXPECT_NEAR(len - links[k].rest, compliance * tension, Real(0.01) * compliance * tension)
+            << when << ", link " << k;
+      }
+    };
+    cfg.substeps = 4;
+    for (int k = 0; k < 60; ++k) step(m, s, cfg);
+    hooke(Real(1e-3), "4 substeps");
+    EXPECT_EQ(s.stream_factors.h, cfg.dt / Real(4));
+    cfg.substeps = 9;
+    for (int k = 0; k < 3; ++k) step(m, s, cfg);
+    hooke(Real(1e-3), "9 substeps after 4");
+    EXPECT_EQ(s.stream_factors.h, cfg.dt / Real(9));
+    Material softer = r.mat;
+    softer.compliance = Real(3e-3);
+    set_material<Distance>(m, softer);
+    for (int k = 0; k < 3; ++k) step(m, s, cfg);
+    hooke(Real(3e-3), "a softer material set after the steps");
+  }
+}
+
+// The same over the array order's levels (a cloth: a rope's array order
+// does not use them): after a new substep and a new material, a state that
+// kept its factors steps to the same bits as one made to compute them again.
+TEST(DistanceStream, KeptFactorsOfTheLevelsAreThoseComputedAgain) {
+  Model m = cloth(16, Real(0.05));
+  State s = make_state(m);
+  StepConfig cfg;
+  cfg.dt = Real(1) / 60;
+  cfg.substeps = 4;
+  for (int k = 0; k < 5; ++k) step(m, s, cfg);
+  ASSERT_EQ(s.stream_factors.h, cfg.dt / Real(4)) << "the array order did not run over its levels";
+  const auto again = [&](const char* when) {
+    State fresh = s;
+    fresh.stream_factors = {};
+    step(m, s, cfg);
+    step(m, fresh, cfg);
+    ASSERT_EQ(s.x.size(), fresh.x.size());
+    EXPECT_EQ(std::memcmp(s.x.data(), fresh.x.data(), s.x.size() * sizeof(Vec3)), 0) << when;
+  };
+  cfg.substeps = 7;
+  again("7 substeps after 4");
+  EXPECT_EQ(s.stream_factors.h, cfg.dt / Real(7));
+  Material softer;
+  softer.compliance = Real(1e-3);
+  set_material<Distance>(m, 0, 100, softer);
+  again("a softer material on 100 elements");
+  again("the step after");
 }
 
 }  // namespace XPBD_TEST_FILE_ID

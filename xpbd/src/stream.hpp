@@ -4,6 +4,7 @@
 // DihedralBending stages of one sweep, on the calling thread or over Workers.
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -142,6 +143,7 @@ struct PairStream {
   std::vector<Real>& inv_den;
   std::vector<Real>& gamma;
   std::vector<Real>& lambda;
+  State::StreamFactors& factors;  // what at, inv_den and gamma hold (pair_begin_step)
   PairKernel scalar, avx2, avx512;  // null where the library has no such kernel
   // The least elements of a colour per thread (sweep_colours).
   std::size_t min_per_task = kMinPerTask;
@@ -214,12 +216,16 @@ DistanceStream make_distance_level_stream(const Model& m);
 // its inv_mass_sum (a Model not made by compile).
 void check_inv_mass_sums(const Model& m, const char* who);
 
+// A number no stream of this process had before (DistanceStream::serial).
+std::uint64_t next_stream_serial();
+
 // A pair stream of `es` in `order` (inv_mass: the model's, for
 // inv_mass_sum); rest(e) is an element's rest value.
 template <class T, class Rest>
 DistanceStream make_pair_stream(const std::vector<T>& es, const std::vector<Index>& order,
                                 const std::vector<Real>& inv_mass, Rest rest) {
   DistanceStream ps;
+  ps.serial = next_stream_serial();
   const std::size_t n = order.size();
   ps.a.resize(n), ps.b.resize(n), ps.rest.resize(n), ps.compliance.resize(n), ps.damping.resize(n);
   ps.inv_mass_sum.resize(n);

@@ -38,6 +38,7 @@ PairStream tether_pair(const Model& m, State& s, bool levels) {
           s.tether_inv_den,
           s.tether_gamma,
           s.tether_lambda,
+          s.tether_factors,
           &project_tether_scalar,
           avx2,
           avx512};

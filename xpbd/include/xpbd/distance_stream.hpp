@@ -13,8 +13,10 @@
 // sweep and back after it; the multipliers are in State::stream_lambda, in
 // stream order, copied to State::lambda at the end of every step. What does
 // not change within a step (compliance/h^2, the inverse of each element's
-// denominator, compliance*damping/h) is computed once per step, so a sweep
-// divides only once per element (1/|d|^2, beside the square root).
+// denominator, compliance*damping/h) is computed at the start of a step, so
+// a sweep divides only once per element (1/|d|^2, beside the square root),
+// and kept for the next step when its substep h, the stream and the damping
+// switch are the same (DistanceStream::serial, State::StreamFactors).
 //
 // step() runs the widest kernel this CPU has (simd_kernel()): where the
 // library was built for x86-64, AVX-512 (16 floats or 8 doubles at a time)
@@ -30,6 +32,7 @@
 // same floating-point operations in the same order on every element,
 // without fused multiply-adds, so they give the same results bit for bit
 // (tests/unit/test_distance_stream.cpp).
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -54,6 +57,13 @@ struct DistanceStream {
   // 1/kg: inv_mass[a] + inv_mass[b] (Model::inv_mass is fixed after
   // compile), so that the per-step factors need no gather.
   std::vector<Real> inv_mass_sum;
+  // Stamped by compile() (and set_material) with a number no other stream
+  // of this process has, and kept by a copy. A state keeps the per-step
+  // factors it computed for a stream, and computes them again only when the
+  // substep, the damping switch or this number differs (State::StreamFactors),
+  // so a stream must not be changed in place once stepped: compile it again.
+  // 0: never kept.
+  std::uint64_t serial = 0;
 
   std::size_t size() const { return a.size(); }
 };

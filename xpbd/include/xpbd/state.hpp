@@ -107,6 +107,15 @@ struct State {
   AlignedVector<Real> stream_x, stream_x_prev;
   std::vector<Real> stream_lambda;
   std::vector<Real> stream_at, stream_inv_den, stream_gamma;
+  // What the factors above (and the Tether ones below) were computed for:
+  // the stream's DistanceStream::serial, the substep and whether damped.
+  // A step with the same ones keeps them (they are the same bits).
+  struct StreamFactors {
+    std::uint64_t serial = 0;
+    Real h = 0;
+    bool damped = false;
+  };
+  StreamFactors stream_factors, tether_factors;
   // The same for the coloured XPBD DihedralBending sweep
   // (dihedral_stream.hpp; it reads the records above): the multipliers in
   // stream order, compliance/h^2 and compliance*damping/h.
