@@ -44,6 +44,20 @@ Model cloth(int n, Real damping) {
   return compile(d);
 }
 
+// A rope of 11 particles of 0.2 kg, 0.1 m apart, pinned at the first,
+// hanging along -y.
+Model rope11(Real compliance, Real damping) {
+  SceneDesc d;
+  RopeDesc r;
+  r.n = 11;
+  r.spacing = Real(0.1);
+  r.mass = Real(0.2);
+  r.mat.compliance = compliance;
+  r.mat.damping = damping;
+  add_rope(d, r);
+  return compile(d);
+}
+
 TEST(DistanceStream, HoldsTheColouredElementsAndFollowsSetMaterial) {
   Model m = cloth(12, 0);
   Material soft;
@@ -279,15 +293,7 @@ TEST(DistanceStream, VectorAndScalarKernelsGiveTheSameBits) {
 // particles below it, |lambda| / h^2 = sum m g (within 1%). Read from
 // State::lambda, which step() fills from the stream multipliers.
 TEST(DistanceStream, MultipliersComeBackToTheirElements) {
-  SceneDesc d;
-  RopeDesc r;
-  r.n = 11;
-  r.spacing = Real(0.1);
-  r.mass = Real(0.2);
-  r.mat.compliance = Real(1e-7);
-  r.mat.damping = Real(0.1);
-  add_rope(d, r);
-  const Model m = compile(d);
+  const Model m = rope11(Real(1e-7), Real(0.1));
   State s = make_state(m);
   StepConfig cfg;
   cfg.coloured = true;
@@ -316,46 +322,36 @@ TEST(DistanceStream, MultipliersComeBackToTheirElements) {
 // C + alpha lambda / h^2 = 0); factors kept from another h or material would
 // make it (h / h_old)^2 or alpha_old / alpha times that.
 TEST(DistanceStream, KeptFactorsFollowTheSubstepAndTheMaterial) {
-  {
-    const bool coloured = true;  // a rope's array order runs element by element, without the stream
-    SceneDesc d;
-    RopeDesc r;
-    r.n = 11;
-    r.spacing = Real(0.1);
-    r.mass = Real(0.2);
-    r.mat.compliance = Real(1e-3);
-    add_rope(d, r);
-    Model m = compile(d);
-    State s = make_state(m);
-    StepConfig cfg;
-    cfg.coloured = coloured;
-    cfg.iterations = 40;
-    cfg.dt = Real(1) / 60;
-    const auto hooke = [&](Real compliance, const char* when) {
-      const Real h = s.last_substep;
-      const auto& links = m.get<Distance>();
-      for (std::size_t k = 0; k < links.size(); ++k) {
-        const Real len = (s.x[std::size_t(links[k].p[0])] - s.x[std::size_t(links[k].p[1])]).norm();
-        const Real tension = std::abs(s.lambdas<Distance>()[k]) / (h * h);
-        EXPECT_GT(tension, Real(0.1)) << when << ", link " << k;  // it carries at least one particle
-        EXPECT_NEAR(len - links[k].rest, compliance * tension, Real(0.01) * compliance * tension)
-            << when << ", link " << k;
-      }
-    };
-    cfg.substeps = 4;
-    for (int k = 0; k < 60; ++k) step(m, s, cfg);
-    hooke(Real(1e-3), "4 substeps");
-    EXPECT_EQ(s.stream_factors.h, cfg.dt / Real(4));
-    cfg.substeps = 9;
-    for (int k = 0; k < 3; ++k) step(m, s, cfg);
-    hooke(Real(1e-3), "9 substeps after 4");
-    EXPECT_EQ(s.stream_factors.h, cfg.dt / Real(9));
-    Material softer = r.mat;
-    softer.compliance = Real(3e-3);
-    set_material<Distance>(m, softer);
-    for (int k = 0; k < 3; ++k) step(m, s, cfg);
-    hooke(Real(3e-3), "a softer material set after the steps");
-  }
+  Model m = rope11(Real(1e-3), 0);
+  State s = make_state(m);
+  StepConfig cfg;
+  cfg.coloured = true;  // a rope's array order runs element by element, without the stream
+  cfg.iterations = 40;
+  cfg.dt = Real(1) / 60;
+  const auto hooke = [&](Real compliance, const char* when) {
+    const Real h = s.last_substep;
+    const auto& links = m.get<Distance>();
+    for (std::size_t k = 0; k < links.size(); ++k) {
+      const Real len = (s.x[std::size_t(links[k].p[0])] - s.x[std::size_t(links[k].p[1])]).norm();
+      const Real tension = std::abs(s.lambdas<Distance>()[k]) / (h * h);
+      EXPECT_GT(tension, Real(0.1)) << when << ", link " << k;  // it carries at least one particle
+      EXPECT_NEAR(len - links[k].rest, compliance * tension, Real(0.01) * compliance * tension)
+          << when << ", link " << k;
+    }
+  };
+  cfg.substeps = 4;
+  for (int k = 0; k < 60; ++k) step(m, s, cfg);
+  hooke(Real(1e-3), "4 substeps");
+  EXPECT_EQ(s.stream_factors.h, cfg.dt / Real(4));
+  cfg.substeps = 9;
+  for (int k = 0; k < 3; ++k) step(m, s, cfg);
+  hooke(Real(1e-3), "9 substeps after 4");
+  EXPECT_EQ(s.stream_factors.h, cfg.dt / Real(9));
+  Material softer;
+  softer.compliance = Real(3e-3);
+  set_material<Distance>(m, softer);
+  for (int k = 0; k < 3; ++k) step(m, s, cfg);
+  hooke(Real(3e-3), "a softer material set after the steps");
 }
 
 // The same over the array order's levels (a cloth: a rope's array order
