@@ -85,6 +85,18 @@ void begin_step(const Model& m, State& s) {
     const WorldFrame f = world_frame(s, c);
     s.world_contact_slack[k] = std::min(f.n.dot(b.x + b.q * c.r - f.p), Real(0));
   }
+  // Each body's contacts with the static world, for the joint block
+  // (contact_block.cpp, supported_against).
+  s.world_contact_begin.assign(s.bodies.size() + 1, 0);
+  for (const BodyWorldContact& c : s.world_contacts)
+    if (c.other < 0) ++s.world_contact_begin[static_cast<std::size_t>(c.body) + 1];
+  for (std::size_t b = 0; b < s.bodies.size(); ++b) s.world_contact_begin[b + 1] += s.world_contact_begin[b];
+  s.world_contact_of.resize(static_cast<std::size_t>(s.world_contact_begin.back()));
+  std::vector<Index> fill(s.world_contact_begin.begin(), s.world_contact_begin.end() - 1);
+  for (std::size_t k = 0; k < s.world_contacts.size(); ++k)
+    if (s.world_contacts[k].other < 0)
+      s.world_contact_of[static_cast<std::size_t>(fill[static_cast<std::size_t>(s.world_contacts[k].body)]++)] =
+          static_cast<Index>(k);
 }
 
 void contacts_added(const Model& m, State& s, std::size_t first_contact, std::size_t first_body) {
@@ -93,6 +105,8 @@ void contacts_added(const Model& m, State& s, std::size_t first_contact, std::si
   build_contact_chains(m, s);
   s.body_contact_impulse.resize(s.bodies.size(), Vec3::Zero());
   s.body_contact_push.resize(s.bodies.size(), Vec3::Zero());
+  // The bodies added have no world contacts.
+  s.world_contact_begin.resize(s.bodies.size() + 1, s.world_contact_begin.empty() ? 0 : s.world_contact_begin.back());
 }
 
 void collect_contact_impulses(State& s, Real h) {

@@ -85,6 +85,10 @@ struct State {
   std::vector<BodyWorldContact> world_contacts;  // bodies against the static world
   std::vector<ContactLambda> world_contact_lambda;  // parallel (sized by step())
   std::vector<Real> world_contact_slack;  // m, <= 0: the overlap each starts the step with (step())
+  // Internal (built by step()): the indices of each body's world contacts
+  // with the static world (other < 0), body b's in
+  // world_contact_of[world_contact_begin[b] .. world_contact_begin[b + 1]).
+  std::vector<Index> world_contact_begin, world_contact_of;
   // N*s, world, parallel to bodies: the impulse the particles' contacts
   // (contacts and triangle_contacts: normal, friction, restitution) gave
   // each body over the last step, static bodies included. Attachments and
