@@ -156,7 +156,10 @@ void apply_attachment(State& s, const Att& t, const Vec3D& dl, Vec3D& dxp) {
 // and its line meets their support polygon (the convex hull of those
 // points, seen along the normal), so that it turns the body about no edge
 // of it. Such a body is held in the joint block below.
-bool supported_against(const State& s, Index b, const Vec3& at, const Vec3& push) {
+// `lean` > 0: the push may lean off its direction by up to atan(lean)
+// (a friction impulse of up to lean times the push beside it), and every
+// such push must lie inside the cone.
+bool supported_against(const State& s, Index b, const Vec3& at, const Vec3& push, Real lean = 0) {
   const Real len = push.norm();
   if (!(len > Real(0))) return false;
   const RigidBody& body = s.bodies[static_cast<std::size_t>(b)];
@@ -175,7 +178,11 @@ bool supported_against(const State& s, Index b, const Vec3& at, const Vec3& push
       continue;
     const Real into = -c.n.dot(push);  // > 0: into the surface
     const Real side = (push + into * c.n).norm();
-    if (!(into > Real(0)) || side > std::max(c.friction, Real(1e-6)) * into) continue;
+    // The push leaning by atan(lean) at worst, away from the normal.
+    const Real angle = std::atan2(side, into) + std::atan(lean);
+    if (!(into > Real(0)) || !(angle < Real(1.5707963)) ||
+        std::tan(angle) > std::max(c.friction, Real(1e-6)))
+      continue;
     if (np == 0) n = c.n;
     else if (n.dot(c.n) < Real(0.999)) continue;  // one support plane (the first)
     pts[np++] = pw;
@@ -377,6 +384,7 @@ bool solve_friction_group(const Model& m, State& s, std::size_t head, Real inv_h
   std::size_t ck[kMaxJointContacts];
   Frame fr[kMaxJointContacts];
   RigidBody* cb[kMaxJointContacts];
+  bool world_held[kMaxJointContacts];
   Dir dirs[kMaxTRows];
   int nc = 0;
   const Index p = s.contacts[head].particle;
@@ -389,7 +397,13 @@ bool solve_friction_group(const Model& m, State& s, std::size_t head, Real inv_h
     ck[nc] = k;
     cb[nc] = &body_or_world(s, c.body);
     fr[nc] = contact_frame(*cb[nc], c, c.body < 0, s.x[p]);
-    const bool dynamic = c.body >= 0 && cb[nc]->inv_mass > Real(0);
+    // A body held against the contact's push (as in the normal block) is
+    // held against its friction too when the push with any friction its
+    // static cone allows stays inside its own contacts' cones with the
+    // static world: the world then takes that friction.
+    world_held[nc] = c.body >= 0 && cb[nc]->inv_mass > Real(0) &&
+                     supported_against(s, c.body, fr[nc].p, -fr[nc].n, c.static_friction);
+    const bool dynamic = c.body >= 0 && cb[nc]->inv_mass > Real(0) && !world_held[nc];
     const Vec3D nd = fr[nc].n.cast<D>();
     const Vec3D t0 = nd.unitOrthogonal();
     dirs[2 * nc] = make_dir(*cb[nc], dynamic, fr[nc].rw, t0);
@@ -478,7 +492,7 @@ bool solve_friction_group(const Model& m, State& s, std::size_t head, Real inv_h
     l.joint = true;
     dxp += imp;
     const Vec3 pi = (-imp).cast<Real>();
-    apply_position_impulse(*cb[i], fr[i].rw, pi);
+    if (!world_held[i]) apply_position_impulse(*cb[i], fr[i].rw, pi);
     record_push(s, s.contacts[ck[i]].body, pi);
   }
   for (int t = 0; t < na; ++t) apply_attachment(s, att[t], u.segment<3>(n2 + 3 * t), dxp);
