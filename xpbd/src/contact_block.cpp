@@ -152,13 +152,12 @@ void apply_attachment(State& s, const Att& t, const Vec3D& dl, Vec3D& dxp) {
 // on the static world against that push, so that the world, not the body,
 // takes it: the push lies inside the friction cone of the body's contacts
 // with static bodies that touch (pushed in this substep, or at or inside
-// the surface; State::world_contacts),
-// and its line meets their support polygon (the convex hull of those
-// points, seen along the normal), so that it turns the body about no edge
-// of it. Such a body is held in the joint block below.
-// `lean` > 0: the push may lean off its direction by up to atan(lean)
-// (a friction impulse of up to lean times the push beside it), and every
-// such push must lie inside the cone.
+// the surface; State::world_contacts), and its line meets their support
+// polygon (the convex hull of those points, seen along the normal), so that
+// it turns the body about no edge of it. Such a body is held in the joint
+// blocks below. `lean` > 0: the push may lean off its direction by up to
+// atan(lean) (a friction impulse of up to lean times the push beside it),
+// and every such push must lie inside the cone.
 bool supported_against(const State& s, Index b, const Vec3& at, const Vec3& push, Real lean = 0) {
   const Real len = push.norm();
   if (!(len > Real(0))) return false;
@@ -178,10 +177,10 @@ bool supported_against(const State& s, Index b, const Vec3& at, const Vec3& push
       continue;
     const Real into = -c.n.dot(push);  // > 0: into the surface
     const Real side = (push + into * c.n).norm();
-    // The push leaning by atan(lean) at worst, away from the normal.
+    // The push leaning by atan(lean) at worst, away from the normal: inside
+    // the cone if tan(angle) <= mu (a right angle or more never is).
     const Real angle = std::atan2(side, into) + std::atan(lean);
-    if (!(into > Real(0)) || !(angle < Real(1.5707963)) ||
-        std::tan(angle) > std::max(c.friction, Real(1e-6)))
+    if (!(into > Real(0)) || !(std::cos(angle) > Real(0)) || std::tan(angle) > std::max(c.friction, Real(1e-6)))
       continue;
     if (np == 0) n = c.n;
     else if (n.dot(c.n) < Real(0.999)) continue;  // one support plane (the first)
