@@ -68,8 +68,8 @@ TEST_P(Squeeze, BarWithClothAmongFallingBodiesAtTheDefaults) {
   EXPECT_GT(path, Real(0.01));
   // The bar comes down onto the cloth piled on the ground (an exactly flat
   // cloth held it 1 m up: add_cloth).
-  std::printf("the bar ends %.4g m above the ground (its half height %.3g m)\n", double(with.bar.back().y()),
-              double(kBarHalf.y()));
+  std::printf("the bar ends %.4g m above the ground (its half height %.3g m; %.4g m without the cloth)\n",
+              double(with.bar.back().y()), double(kBarHalf.y()), double(without.bar.back().y()));
   EXPECT_LT(with.bar.back().y(), Real(0.2));
   EXPECT_FALSE(with.exploded);
   // Clean in depth: no particle centre deeper than the thickness in any

@@ -171,16 +171,17 @@ bool supported_against(const State& s, Index b, const Vec3& at, const Vec3& push
   for (Index j = s.world_contact_begin[bi]; j < s.world_contact_begin[bi + 1] && np < kMaxPoints; ++j) {
     const auto k = static_cast<std::size_t>(s.world_contact_of[static_cast<std::size_t>(j)]);
     const BodyWorldContact& c = s.world_contacts[k];
+    const Real into = -c.n.dot(push);  // > 0: into the surface
+    const Real side = (push + into * c.n).norm();
+    // The push leaning by atan(lean) at worst, away from the normal, inside
+    // the cone: tan(a + b) = (side / into + lean) / (1 - lean side / into)
+    // at most mu, and a + b below a right angle.
+    const Real mu = std::max(c.friction, Real(1e-6));
+    const Real rest = into - lean * side;
+    if (!(into > Real(0)) || !(rest > Real(0)) || side + lean * into > mu * rest) continue;
     const Vec3 pw = body.x + body.q * c.r;
     // Touching: it pushed in this substep, or the point is at or in the surface.
     if (!(s.world_contact_lambda[k].normal > Real(0)) && !(c.n.dot(pw - c.p) - s.world_contact_slack[k] <= Real(0)))
-      continue;
-    const Real into = -c.n.dot(push);  // > 0: into the surface
-    const Real side = (push + into * c.n).norm();
-    // The push leaning by atan(lean) at worst, away from the normal: inside
-    // the cone if tan(angle) <= mu (a right angle or more never is).
-    const Real angle = std::atan2(side, into) + std::atan(lean);
-    if (!(into > Real(0)) || !(std::cos(angle) > Real(0)) || std::tan(angle) > std::max(c.friction, Real(1e-6)))
       continue;
     if (np == 0) n = c.n;
     else if (n.dot(c.n) < Real(0.999)) continue;  // one support plane (the first)
